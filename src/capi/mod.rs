@@ -1,0 +1,104 @@
+//! The C ABI. Every `extern "C"` function of the library lives below this module; the header
+//! `include/rollslide.h` is generated from it by cbindgen.
+//!
+//! Rules (CONVENTIONS.md): `int32_t` status returns; outputs last and written only on success;
+//! every body behind one panic boundary ([`guard`]); only `#[repr(C)]` structs of doubles and
+//! fixed-width integers cross the boundary; option codes arrive as integers and are validated.
+
+pub mod decompose;
+pub mod status;
+pub mod types;
+pub mod version;
+
+use status::{set_last_error, FfiError, RSL_OK};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// Runs `body` behind the panic boundary and maps its result to a status code, recording the
+/// detail message of a failure in the thread-local last error.
+pub(crate) fn guard<F: FnOnce() -> Result<(), FfiError>>(body: F) -> i32 {
+    let outcome = catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".to_string());
+        Err(FfiError::Panic(what))
+    });
+    match outcome {
+        Ok(()) => RSL_OK,
+        Err(e) => {
+            set_last_error(&e.message());
+            e.code()
+        }
+    }
+}
+
+/// Borrows a caller's input struct, refusing NULL and misaligned pointers.
+///
+/// # Safety
+/// `p` must be NULL or point to a live, initialised `T` that is not written during the call
+/// (the C API's documented contract); alignment and NULL are checked here.
+pub(crate) unsafe fn input<'a, T>(p: *const T, name: &'static str) -> Result<&'a T, FfiError> {
+    if p.is_null() {
+        return Err(FfiError::NullPointer(name));
+    }
+    if !p.is_aligned() {
+        return Err(FfiError::Misaligned(name));
+    }
+    // SAFETY: non-null and aligned (checked above); validity and liveness are the caller's
+    // contract stated in the function's documentation.
+    Ok(unsafe { &*p })
+}
+
+/// Borrows an optional input struct: NULL gives `None` (the documented default).
+///
+/// # Safety
+/// As [`input`].
+pub(crate) unsafe fn optional_input<'a, T>(
+    p: *const T,
+    name: &'static str,
+) -> Result<Option<&'a T>, FfiError> {
+    if p.is_null() {
+        Ok(None)
+    } else {
+        // SAFETY: forwarded contract of `input`.
+        unsafe { input(p, name) }.map(Some)
+    }
+}
+
+/// Checks an output pointer, refusing NULL and misaligned pointers. Nothing is written here;
+/// callers write the whole result once, after every check has passed.
+///
+/// # Safety
+/// `p` must be NULL or point to writable memory for one `T`, not aliased by any input.
+pub(crate) unsafe fn output<'a, T>(p: *mut T, name: &'static str) -> Result<&'a mut T, FfiError> {
+    if p.is_null() {
+        return Err(FfiError::NullPointer(name));
+    }
+    if !p.is_aligned() {
+        return Err(FfiError::Misaligned(name));
+    }
+    // SAFETY: non-null and aligned (checked above); writability and exclusivity are the
+    // caller's contract stated in the function's documentation.
+    Ok(unsafe { &mut *p })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::capi::status::{rsl_last_error_message, RSL_ERR_INTERNAL};
+    use std::ffi::CStr;
+
+    #[test]
+    fn a_panic_becomes_a_status_and_a_message() {
+        let prev = std::panic::take_hook();
+        std::panic::set_hook(Box::new(|_| {}));
+        let status = guard(|| panic!("boom"));
+        std::panic::set_hook(prev);
+        assert_eq!(status, RSL_ERR_INTERNAL);
+        // SAFETY: the pointer is a NUL-terminated thread-local string, valid until the next
+        // failing call on this thread.
+        let msg = unsafe { CStr::from_ptr(rsl_last_error_message()) };
+        assert!(msg.to_str().unwrap().contains("boom"));
+    }
+}

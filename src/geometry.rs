@@ -1,0 +1,229 @@
+//! Contact geometry of kinematics.md section 2: normal, distance, overlap, branch lengths,
+//! rolling radius and contact point, for a sphere pair and for a sphere against a flat wall.
+//!
+//! Conventions: body 1 is the first sphere; body 2 is the second sphere or the wall. The unit
+//! normal `n` points **from body 1 to body 2** (into the wall). Lengths are in the caller's unit.
+
+use crate::error::Error;
+use crate::scalar::{lit, Real, Vec3};
+use nalgebra::RealField;
+
+/// Where the two branch vectors end (kinematics.md section 2, a **convention**).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BranchRule {
+    /// `l_k = R_k - delta/2`: both branches end at the same contact point, which makes the
+    /// sliding velocity objective. The default; the torque arms of LAMMPS and YADE.
+    #[default]
+    Midplane,
+    /// `l_k = R_k`: the paper's eq. (1) approximation. Not objective when `delta != 0`.
+    Radii,
+}
+
+/// Which rolling radius `R_r` scales the rolling velocity (a **convention**).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RollingRadiusRule {
+    /// `R_r = l1 l2 / (l1 + l2)` (wall: `l1`). The default.
+    #[default]
+    Exact,
+    /// `R_eff = R1 R2 / (R1 + R2)` (wall: `R1`), as in LAMMPS and the paper; differs by O(delta/R).
+    Effective,
+}
+
+/// The geometric options of a decomposition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct GeometryOptions {
+    /// Branch rule; default [`BranchRule::Midplane`].
+    pub branch_rule: BranchRule,
+    /// Rolling radius rule; default [`RollingRadiusRule::Exact`].
+    pub rolling_radius: RollingRadiusRule,
+}
+
+/// Geometry of one contact. For a wall (curvature 0) `distance` and `branch2` are `+inf`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactGeometry<T: Real> {
+    /// Unit normal from body 1 to body 2 (into the wall).
+    pub normal: Vec3<T>,
+    /// Centre distance `d = |r2 - r1|` (`+inf` for a wall).
+    pub distance: T,
+    /// Overlap `delta = R1 + R2 - d` (wall: `R1 - h`, `h` the centre's height above the wall);
+    /// positive in contact.
+    pub overlap: T,
+    /// Branch length `l1` of body 1 (centre to contact point along `n`).
+    pub branch1: T,
+    /// Branch length `l2` of body 2 (`+inf` for a wall).
+    pub branch2: T,
+    /// Rolling radius `R_r` (see [`RollingRadiusRule`]).
+    pub rolling_radius: T,
+    /// Contact point `r_c = r1 + l1 n`.
+    pub contact_point: Vec3<T>,
+    /// `d l1/dt = branch_rate_factor * ddot`: `1/2` under the midplane rule, `0` under `radii`.
+    pub branch_rate_factor: T,
+}
+
+/// Geometry of a sphere pair, without validation: the formula only, for every [`Real`] type
+/// (scalar and SIMD lanes). Use [`pair_geometry`] for checked scalar input.
+///
+/// `r1`, `r2`: centres; `radius1`, `radius2`: radii (> 0).
+#[inline(always)]
+pub fn pair_geometry_unchecked<T: Real>(
+    r1: &Vec3<T>,
+    r2: &Vec3<T>,
+    radius1: T,
+    radius2: T,
+    options: GeometryOptions,
+) -> ContactGeometry<T> {
+    let branch = r2 - r1;
+    let distance = branch.norm();
+    let normal = branch / distance;
+    let overlap = radius1 + radius2 - distance;
+    let (branch1, branch2, branch_rate_factor) = match options.branch_rule {
+        BranchRule::Midplane => {
+            // l1 = R1 - delta/2 = (d + R1 - R2)/2, written so that l1 + l2 = d to rounding.
+            let half = lit::<T>(0.5);
+            let l1 = (distance + radius1 - radius2) * half;
+            (l1, distance - l1, half)
+        }
+        BranchRule::Radii => (radius1, radius2, lit(0.0)),
+    };
+    let rolling_radius = match options.rolling_radius {
+        RollingRadiusRule::Exact => branch1 * branch2 / (branch1 + branch2),
+        RollingRadiusRule::Effective => radius1 * radius2 / (radius1 + radius2),
+    };
+    ContactGeometry {
+        normal,
+        distance,
+        overlap,
+        branch1,
+        branch2,
+        rolling_radius,
+        contact_point: r1 + normal * branch1,
+        branch_rate_factor,
+    }
+}
+
+/// Geometry of a sphere against a flat wall, without validation.
+///
+/// `r1`, `radius1`: the sphere; `wall_point`: any point of the wall surface; `wall_normal`:
+/// **unit** outward normal of the wall (pointing from the wall towards the sphere's side).
+/// The contact normal is `n = -wall_normal`.
+#[inline(always)]
+pub fn wall_geometry_unchecked<T: Real>(
+    r1: &Vec3<T>,
+    radius1: T,
+    wall_point: &Vec3<T>,
+    wall_normal: &Vec3<T>,
+    options: GeometryOptions,
+) -> ContactGeometry<T> {
+    let normal = -wall_normal;
+    let height = (r1 - wall_point).dot(wall_normal);
+    let overlap = radius1 - height;
+    let infinity = lit::<T>(f64::INFINITY);
+    let (branch1, branch_rate_factor) = match options.branch_rule {
+        // The limit R2 -> inf of l1 = R1 - delta/2.
+        BranchRule::Midplane => (radius1 - overlap * lit(0.5), lit(0.5)),
+        BranchRule::Radii => (radius1, lit(0.0)),
+    };
+    let rolling_radius = match options.rolling_radius {
+        RollingRadiusRule::Exact => branch1,
+        RollingRadiusRule::Effective => radius1,
+    };
+    ContactGeometry {
+        normal,
+        distance: infinity,
+        overlap,
+        branch1,
+        branch2: infinity,
+        rolling_radius,
+        contact_point: r1 + normal * branch1,
+        branch_rate_factor,
+    }
+}
+
+/// Checks that every component of `v` is finite.
+pub(crate) fn check_finite_vec<T: RealField + Copy>(
+    v: &Vec3<T>,
+    what: &'static str,
+) -> Result<(), Error> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::NonFinite(what))
+    }
+}
+
+pub(crate) fn check_radius<T: RealField + Copy>(r: T, what: &'static str) -> Result<(), Error> {
+    if !r.is_finite() {
+        return Err(Error::NonFinite(what));
+    }
+    if r <= T::zero() {
+        return Err(Error::InvalidRadius(what));
+    }
+    Ok(())
+}
+
+fn check_branches<T: RealField + Copy>(g: &ContactGeometry<T>) -> Result<(), Error> {
+    if !(g.branch1 > T::zero()) {
+        return Err(Error::NonPositiveBranch("l1"));
+    }
+    if !(g.branch2 > T::zero()) {
+        return Err(Error::NonPositiveBranch("l2"));
+    }
+    Ok(())
+}
+
+/// Geometry of a sphere pair with every check of kinematics.md section 7: finite input,
+/// radii > 0, `d >= eps (R1 + R2)`, `l1, l2 > 0`.
+pub fn pair_geometry<T: RealField + Copy>(
+    r1: &Vec3<T>,
+    r2: &Vec3<T>,
+    radius1: T,
+    radius2: T,
+    options: GeometryOptions,
+) -> Result<ContactGeometry<T>, Error> {
+    check_finite_vec(r1, "position of body 1")?;
+    check_finite_vec(r2, "position of body 2")?;
+    check_radius(radius1, "radius of body 1")?;
+    check_radius(radius2, "radius of body 2")?;
+    let d = (r2 - r1).norm();
+    if !d.is_finite() {
+        return Err(Error::NonFinite("centre distance (overflow)"));
+    }
+    if d < T::default_epsilon() * (radius1 + radius2) {
+        return Err(Error::CoincidentCentres);
+    }
+    let g = pair_geometry_unchecked(r1, r2, radius1, radius2, options);
+    check_branches(&g)?;
+    Ok(g)
+}
+
+/// Geometry of a sphere against a flat wall with every check: finite input, radius > 0, a
+/// non-zero wall normal (normalised here, so it need not be unit), `l1 > 0`.
+///
+/// Returns the geometry and the unit wall normal.
+pub fn wall_geometry<T: RealField + Copy>(
+    r1: &Vec3<T>,
+    radius1: T,
+    wall_point: &Vec3<T>,
+    wall_normal: &Vec3<T>,
+    options: GeometryOptions,
+) -> Result<(ContactGeometry<T>, Vec3<T>), Error> {
+    check_finite_vec(r1, "position of the sphere")?;
+    check_radius(radius1, "radius of the sphere")?;
+    check_finite_vec(wall_point, "wall point")?;
+    check_finite_vec(wall_normal, "wall normal")?;
+    let len = wall_normal.norm();
+    if !(len > T::zero()) || !len.is_finite() {
+        return Err(Error::InvalidArgument(
+            "wall normal must be a non-zero vector".to_string(),
+        ));
+    }
+    let unit = wall_normal / len;
+    let g = wall_geometry_unchecked(r1, radius1, wall_point, &unit, options);
+    if !g.overlap.is_finite() {
+        return Err(Error::NonFinite("wall overlap (overflow)"));
+    }
+    if !(g.branch1 > T::zero()) {
+        return Err(Error::NonPositiveBranch("l1"));
+    }
+    Ok((g, unit))
+}

@@ -1,0 +1,52 @@
+//! Loads on both bodies from the work-conjugate contact forces (kinematics.md section 5).
+//!
+//! Inputs: normal force magnitude `f_n` (compressive positive), tangential (sliding) force
+//! `F_t` on body 1, rolling pseudo-force `F_r` (tangential) and twisting moment `M_tw` on
+//! body 1 about `n`. Torques are about each body's centre.
+
+use crate::geometry::ContactGeometry;
+use crate::scalar::{Real, Vec3};
+
+/// Force and torque on each body of one contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLoads<T: Real> {
+    /// Force on body 1: `-f_n n + F_t`.
+    pub force1: Vec3<T>,
+    /// Torque on body 1 about its centre: `l1 n x F_t + R_r n x F_r + M_tw n`.
+    pub torque1: Vec3<T>,
+    /// Force on body 2: `-force1`.
+    pub force2: Vec3<T>,
+    /// Torque on body 2. Sphere: about its centre, `l2 n x F_t - R_r n x F_r - M_tw n`.
+    /// Wall (infinite arm): about the contact point, `-R_r n x F_r - M_tw n`; about a point
+    /// `X` it is `torque2 + (r_c - X) x force2`.
+    pub torque2: Vec3<T>,
+}
+
+/// Loads of one contact. Angular momentum about any point is conserved exactly: the force
+/// pair acts along a common line through `r_c` and the rolling and twisting parts are couples.
+#[inline(always)]
+pub fn contact_loads<T: Real>(
+    g: &ContactGeometry<T>,
+    normal_force: T,
+    sliding_force: &Vec3<T>,
+    rolling_force: &Vec3<T>,
+    twisting_moment: T,
+    is_wall: bool,
+) -> ContactLoads<T> {
+    let n = g.normal;
+    let force1 = sliding_force - n * normal_force;
+    let n_x_ft = n.cross(sliding_force);
+    let couple = n.cross(rolling_force) * g.rolling_radius + n * twisting_moment;
+    let torque1 = n_x_ft * g.branch1 + couple;
+    let torque2 = if is_wall {
+        -couple
+    } else {
+        n_x_ft * g.branch2 - couple
+    };
+    ContactLoads {
+        force1,
+        torque1,
+        force2: -force1,
+        torque2,
+    }
+}

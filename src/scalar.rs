@@ -1,0 +1,28 @@
+//! The number types the physics is written for.
+//!
+//! Every kinematic formula in this crate is written once, generic over [`Real`]: plain `f64`,
+//! plain `f32`, and SIMD lane types such as [`simba::simd::WideF64x4`] (four contacts at once)
+//! all instantiate the same code, so the per-contact and batch paths cannot drift apart.
+
+use nalgebra::{SimdRealField, Vector3};
+
+/// A real number type the kinematics can be evaluated in: a scalar (`f32`, `f64`) or a SIMD
+/// pack of lanes (for example `simba::simd::WideF64x4`), one contact per lane.
+pub trait Real: SimdRealField + Copy {}
+
+impl<T: SimdRealField + Copy> Real for T {}
+
+/// A 3-vector of [`Real`] numbers (positions, velocities, angular velocities).
+pub type Vec3<T> = Vector3<T>;
+
+/// Converts an `f64` constant into `T` (exact for `f64`, rounded for `f32`, splat for SIMD).
+#[inline(always)]
+pub fn lit<T: Real>(x: f64) -> T {
+    nalgebra::convert(x)
+}
+
+/// The tangential part of `v` with respect to the unit normal `n`: `v - (v . n) n`.
+#[inline(always)]
+pub fn tangential<T: Real>(v: &Vec3<T>, n: &Vec3<T>) -> Vec3<T> {
+    v - n * v.dot(n)
+}
