@@ -161,11 +161,16 @@ pub(crate) fn check_radius<T: RealField + Copy>(r: T, what: &'static str) -> Res
     Ok(())
 }
 
+/// `x > 0`, false for NaN (so NaN is refused wherever positivity is required).
+fn is_positive<T: RealField + Copy>(x: T) -> bool {
+    x > T::zero()
+}
+
 fn check_branches<T: RealField + Copy>(g: &ContactGeometry<T>) -> Result<(), Error> {
-    if !(g.branch1 > T::zero()) {
+    if !is_positive(g.branch1) {
         return Err(Error::NonPositiveBranch("l1"));
     }
-    if !(g.branch2 > T::zero()) {
+    if !is_positive(g.branch2) {
         return Err(Error::NonPositiveBranch("l2"));
     }
     Ok(())
@@ -212,7 +217,7 @@ pub fn wall_geometry<T: RealField + Copy>(
     check_finite_vec(wall_point, "wall point")?;
     check_finite_vec(wall_normal, "wall normal")?;
     let len = wall_normal.norm();
-    if !(len > T::zero()) || !len.is_finite() {
+    if !is_positive(len) || !len.is_finite() {
         return Err(Error::InvalidArgument(
             "wall normal must be a non-zero vector".to_string(),
         ));
@@ -222,7 +227,7 @@ pub fn wall_geometry<T: RealField + Copy>(
     if !g.overlap.is_finite() {
         return Err(Error::NonFinite("wall overlap (overflow)"));
     }
-    if !(g.branch1 > T::zero()) {
+    if !is_positive(g.branch1) {
         return Err(Error::NonPositiveBranch("l1"));
     }
     Ok((g, unit))

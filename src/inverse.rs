@@ -56,8 +56,10 @@ pub fn compose_pair<T: Real>(d: &Decomposition<T>) -> PairVelocities<T> {
     // A = (l1 w1 + l2 w2)_t = n x v_s + d w_rbr.
     let arms_t = n.cross(&d.sliding_velocity) + d.tumbling * g.distance;
     let half_twist = d.twisting_rate * lit(0.5);
-    let w1 = (arms_t + spin_diff_t * g.branch2) / g.distance + n * (d.frame_spin + half_twist);
-    let w2 = (arms_t - spin_diff_t * g.branch1) / g.distance + n * (d.frame_spin - half_twist);
+    // l1 + l2 = d under the midplane rule, R1 + R2 under the radii rule.
+    let span = g.branch1 + g.branch2;
+    let w1 = (arms_t + spin_diff_t * g.branch2) / span + n * (d.frame_spin + half_twist);
+    let w2 = (arms_t - spin_diff_t * g.branch1) / span + n * (d.frame_spin - half_twist);
     let v1 = velocity1(d);
     let dv = n * d.normal_rate + d.tumbling.cross(&n) * g.distance;
     PairVelocities {

@@ -280,12 +280,12 @@ pub unsafe extern "C" fn rsl_compose_wall(
 }
 
 /// LEGACY rolling measures of a sphere pair (Kuhn-Bagi mean travel, Iwashita-Oda), for
-/// comparing with older codes. Not objective rolling; see `rsl_legacy_rolling`'s fields.
+/// comparing with older codes. Not objective rolling; see the fields of `rsl_legacy_rolling`.
 ///
 /// # Safety
 /// As `rsl_decompose`.
 #[no_mangle]
-pub unsafe extern "C" fn rsl_legacy_rolling(
+pub unsafe extern "C" fn rsl_decompose_legacy(
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     options: *const rsl_decompose_options,

@@ -1,0 +1,188 @@
+//! Compiles the C test programs of `c_tests/` with the `cc` crate (`-std=c11 -Wall -Wextra
+//! -Werror`), links them against the static library that `cargo test` just built, and reports
+//! each C test function (listed in `c_tests/tests.def`) as its own test. Also compiles the
+//! header as C++ and the C snippet of README.md.
+
+use libtest_mimic::{Arguments, Failed, Trial};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// System libraries a Rust static library needs on Linux (`rustc --print native-static-libs`).
+const NATIVE_LIBS: &[&str] = &[
+    "-lgcc_s",
+    "-lutil",
+    "-lrt",
+    "-lpthread",
+    "-lm",
+    "-ldl",
+    "-lc",
+];
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The directory of this test binary (target/<profile>/deps), where cargo put the library.
+fn deps_dir() -> PathBuf {
+    std::env::current_exe()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+/// The freshest `librollslide.a` of this profile.
+fn static_library() -> PathBuf {
+    let deps = deps_dir();
+    let candidates = [deps.join("librollslide.a"), deps.join("../librollslide.a")];
+    candidates
+        .into_iter()
+        .filter(|p| p.exists())
+        .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok())
+        .expect("librollslide.a not found next to the test binary; run through `cargo test`")
+}
+
+fn compiler(cpp: bool) -> cc::Tool {
+    cc::Build::new()
+        .cpp(cpp)
+        .target(env!("RSL_BUILD_TARGET"))
+        .host(env!("RSL_BUILD_HOST"))
+        .opt_level(1)
+        .cargo_metadata(false)
+        .warnings(false)
+        .get_compiler()
+}
+
+fn run(mut cmd: Command, what: &str) -> Result<String, String> {
+    let out = cmd
+        .output()
+        .map_err(|e| format!("{what}: cannot run: {e}"))?;
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    if out.status.success() {
+        Ok(text)
+    } else {
+        Err(format!("{what} failed ({}):\n{text}", out.status))
+    }
+}
+
+/// Compiles C sources into an executable linked against the static library.
+fn build_c_program(sources: &[PathBuf], exe: &Path) -> Result<(), String> {
+    let mut cmd = compiler(false).to_command();
+    cmd.args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .arg("-I")
+        .arg(root().join("include"))
+        .arg("-I")
+        .arg(root().join("c_tests"))
+        .args(sources)
+        .arg(static_library())
+        .args(NATIVE_LIBS)
+        .arg("-o")
+        .arg(exe);
+    run(cmd, &format!("compiling {}", exe.display())).map(|_| ())
+}
+
+fn c_test_sources() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("c_tests"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "c"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// The ```c block of README.md that follows the marker `<!-- compiled by tests/c_tests.rs -->`.
+fn readme_snippet() -> String {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let after = readme
+        .split("<!-- compiled by tests/c_tests.rs -->")
+        .nth(1)
+        .expect("README.md lacks the marker of the compiled C snippet");
+    let body = after
+        .split("```c\n")
+        .nth(1)
+        .expect("no ```c block after the marker");
+    body.split("```").next().unwrap().to_string()
+}
+
+fn main() {
+    let args = Arguments::from_args();
+    let work = deps_dir().join("../c_tests_build");
+    std::fs::create_dir_all(&work).unwrap();
+    let exe = work.join("c_tests");
+    let built = build_c_program(&c_test_sources(), &exe);
+
+    let mut trials = Vec::new();
+    match &built {
+        Ok(()) => {
+            let list = run(
+                {
+                    let mut c = Command::new(&exe);
+                    c.arg("--list");
+                    c
+                },
+                "c_tests --list",
+            )
+            .expect("listing the C tests");
+            for name in list.lines().map(str::to_owned) {
+                let exe = exe.clone();
+                trials.push(Trial::test(format!("c::{name}"), move || {
+                    let mut c = Command::new(&exe);
+                    c.arg(&name);
+                    run(c, &name).map(|_| ()).map_err(Failed::from)
+                }));
+            }
+        }
+        Err(e) => {
+            let e = e.clone();
+            trials.push(Trial::test("c::build", move || Err(Failed::from(e))));
+        }
+    }
+
+    let work2 = work.clone();
+    trials.push(Trial::test("header_compiles_as_cpp", move || {
+        let src = work2.join("header_cxx.cpp");
+        std::fs::write(
+            &src,
+            "#include \"rollslide.h\"\n#include <cstring>\n\
+             int main() { rsl_vec3 v = {1.0, 2.0, 3.0}; (void)v;\n\
+             return std::strlen(rsl_version()) > 0 ? 0 : 1; }\n",
+        )
+        .unwrap();
+        let out = work2.join("header_cxx");
+        let mut cmd = compiler(true).to_command();
+        cmd.args(["-std=c++11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+            .arg("-I")
+            .arg(root().join("include"))
+            .arg(&src)
+            .arg(static_library())
+            .args(NATIVE_LIBS)
+            .arg("-o")
+            .arg(&out);
+        run(cmd, "compiling the header as C++")?;
+        run(Command::new(&out), "running the C++ program")?;
+        Ok(())
+    }));
+
+    let work3 = work.clone();
+    trials.push(Trial::test(
+        "readme_c_snippet_compiles_and_runs",
+        move || {
+            let src = work3.join("readme_snippet.c");
+            std::fs::write(&src, readme_snippet()).unwrap();
+            let out = work3.join("readme_snippet");
+            build_c_program(&[src], &out)?;
+            let printed = run(Command::new(&out), "running the README snippet")?;
+            if !printed.contains("rolling velocity") {
+                return Err(format!("README snippet printed unexpected output:\n{printed}").into());
+            }
+            Ok(())
+        },
+    ));
+
+    libtest_mimic::run(&args, trials).exit();
+}
