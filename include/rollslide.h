@@ -13,6 +13,29 @@
 #include <stdint.h>
 #include <stddef.h>
 
+// Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
+#define RSL_INPUT_SLIDING_STIFFNESS 1
+
+// Input flag: use `rsl_contact_input.sliding_damping` instead of the model's `gamma_t`.
+#define RSL_INPUT_SLIDING_DAMPING 2
+
+// Input flag: the setup pass of the preset's code (LAMMPS/YADE/objective: loads from the
+// stored history, no update; LIGGGHTS: one increment, not stored). The state is not written.
+#define RSL_INPUT_SETUP 4
+
+// Input flag: the limits use `rsl_contact_input.limit_force` (>= 0) instead of `normal_force`
+// (LAMMPS' `Fncrit`, an elastic normal force...).
+#define RSL_INPUT_LIMIT_FORCE 8
+
+// Slip flag: the sliding limit was reached this step.
+#define RSL_SLIP_SLIDING 1
+
+// Slip flag: the rolling limit was reached (cdt: the moment was active) this step.
+#define RSL_SLIP_ROLLING 2
+
+// Slip flag: the twisting limit was reached this step.
+#define RSL_SLIP_TWISTING 4
+
 // Branch rule `midplane`: `l_k = R_k - delta/2` (default; objective sliding).
 #define RSL_BRANCH_MIDPLANE 0
 
@@ -46,6 +69,90 @@
 // Every part.
 #define RSL_PART_ALL 63
 
+// Preset: this library's objective definitions (default).
+#define RSL_PRESET_OBJECTIVE 0
+
+// Preset: LAMMPS 29 Sep 2021 `pair_style granular` (radii sliding, R_eff, project-rescale).
+#define RSL_PRESET_LAMMPS_2021 1
+
+// Preset: YADE 2023.02a CohFrict moment law / Mindlin with moments (angle form, first-order).
+#define RSL_PRESET_YADE_2023 2
+
+// Preset: LIGGGHTS-PUBLIC 3.8.0 rolling friction (angle form, damping below the limit).
+#define RSL_PRESET_LIGGGHTS_3_8 3
+
+// Sliding law: none.
+#define RSL_SLIDING_NONE 0
+
+// Sliding law: linear spring-dashpot-slider (LAMMPS linear_history).
+#define RSL_SLIDING_LINEAR 1
+
+// Rolling law: none.
+#define RSL_ROLLING_NONE 0
+
+// Rolling law: cdt (type A, constant moment).
+#define RSL_ROLLING_CDT 1
+
+// Rolling law: viscous (type B).
+#define RSL_ROLLING_VISCOUS 2
+
+// Rolling law: epsd (type C, elastic-plastic spring-dashpot).
+#define RSL_ROLLING_EPSD 3
+
+// Twisting law: none.
+#define RSL_TWISTING_NONE 0
+
+// Twisting law: spring-dashpot-slider.
+#define RSL_TWISTING_SDS 1
+
+// Twisting law: Marshall (from the sliding law and the contact radius).
+#define RSL_TWISTING_MARSHALL 2
+
+// Rolling parameters in length form (k_r force/length, gamma_r, mu_r dimensionless).
+#define RSL_FORM_LENGTH 0
+
+// Rolling parameters in angle form (k_theta moment/rad, c_theta, eta a length).
+#define RSL_FORM_ANGLE 1
+
+// EPSD stiffness: the given `stiffness`.
+#define RSL_STIFFNESS_GIVEN 0
+
+// EPSD stiffness: `k_theta = 2.25 k_n mu_r^2 R_r^2`.
+#define RSL_STIFFNESS_EPSD 1
+
+// EPSD stiffness: `k_theta = k_t R_r^2`.
+#define RSL_STIFFNESS_EPSD2 2
+
+// EPSD stiffness: `k_theta = c k_n mu_r^2 R_r^2` (`c` = `stiffness_factor`).
+#define RSL_STIFFNESS_EPSD3 3
+
+// EPSD damping: the given `damping` coefficient.
+#define RSL_DAMPING_GIVEN 0
+
+// EPSD damping: `damping` is a ratio `eta_r`, `c_theta = eta_r 2 sqrt(I_r k_theta)`.
+#define RSL_DAMPING_RATIO 1
+
+// Dashpot always on; the limit applies to spring + dashpot.
+#define RSL_DAMPING_ALWAYS 0
+
+// Dashpot only below the limit; the limit applies to the spring (LIGGGHTS).
+#define RSL_DAMPING_BELOW_LIMIT 1
+
+// Transport: exact rotation (default).
+#define RSL_TRANSPORT_EXACT 0
+
+// Transport: project and rescale (LAMMPS).
+#define RSL_TRANSPORT_PROJECT_RESCALE 1
+
+// Transport: first-order rotation (YADE).
+#define RSL_TRANSPORT_FIRST_ORDER 2
+
+// Transport: project, no rescale (LIGGGHTS sliding).
+#define RSL_TRANSPORT_PROJECT 3
+
+// Transport: none.
+#define RSL_TRANSPORT_NONE 4
+
 // Success.
 #define RSL_OK 0
 
@@ -74,6 +181,18 @@
 // An internal error (a Rust panic) was caught at the C boundary; outputs were not written.
 #define RSL_ERR_INTERNAL 8
 
+// The time step was not finite and > 0.
+#define RSL_ERR_INVALID_TIME_STEP 9
+
+// The normal force was negative (compressive positive is required).
+#define RSL_ERR_NEGATIVE_NORMAL_FORCE 10
+
+// A model parameter or law code was invalid; the detail message names it. The model is unchanged.
+#define RSL_ERR_INVALID_PARAMETER 11
+
+// A model handle was not a live model (already freed, or not from `rsl_model_new`).
+#define RSL_ERR_INVALID_HANDLE 12
+
 // Major version of the header (must equal the library's, see `rsl_version`).
 #define RSL_VERSION_MAJOR 0
 
@@ -83,17 +202,10 @@
 // Patch version of the header.
 #define RSL_VERSION_PATCH 0
 
-// Options of a decomposition. Pass NULL for the defaults (midplane, exact rolling radius,
-// every part), or start from `rsl_decompose_options_default()`.
-typedef struct rsl_decompose_options {
-  // `RSL_BRANCH_MIDPLANE` or `RSL_BRANCH_RADII`.
-  int32_t branch_rule;
-  // `RSL_ROLLING_RADIUS_EXACT` or `RSL_ROLLING_RADIUS_EFFECTIVE`.
-  int32_t rolling_radius_rule;
-  // OR of `RSL_PART_*` bits: the parts to compute (the geometry is always computed); parts
-  // not asked for are not computed and are reported as 0.
-  uint32_t parts;
-} rsl_decompose_options;
+// An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
+// release with `rsl_model_free`. A model is read-only during steps: one model can serve many
+// threads at once as long as no thread calls a setter meanwhile.
+typedef struct rsl_model rsl_model;
 
 // A 3-vector of doubles (any consistent unit system).
 typedef struct rsl_vec3 {
@@ -104,6 +216,27 @@ typedef struct rsl_vec3 {
   // z component.
   double z;
 } rsl_vec3;
+
+// The history a host stores for each contact: plain data, copy it freely. All bytes zero
+// (`rsl_contact_state_init` or memset) is a fresh contact.
+typedef struct rsl_contact_state {
+  // Sliding spring `xi_s` (length, tangential). YADE preset: the elastic shear force on body 1.
+  struct rsl_vec3 sliding_spring;
+  // Rolling spring: `xi_r` (length) in the length form, `theta_r` (rad) in the angle form.
+  // YADE and LIGGGHTS presets: the elastic rolling moment on body 1 (their codes store it).
+  struct rsl_vec3 rolling_spring;
+  // Twisting angle `theta_tw` (rad). YADE preset: its twisting moment along the previous normal.
+  double twisting_angle;
+  // YADE preset only: the part of its vector twisting moment off the previous normal (YADE
+  // transports the twisting moment as a vector); zero for every other model.
+  struct rsl_vec3 twisting_offaxis;
+  // Normal of the previous step (zero before the first step).
+  struct rsl_vec3 previous_normal;
+  // `RSL_SLIP_*` bits of the last step (information only; not read by the library).
+  uint32_t slip_flags;
+  // Padding; keep 0.
+  uint32_t reserved;
+} rsl_contact_state;
 
 // Kinematic state of one sphere.
 typedef struct rsl_sphere {
@@ -116,6 +249,112 @@ typedef struct rsl_sphere {
   // Radius (> 0).
   double radius;
 } rsl_sphere;
+
+// Per-call inputs of a contact step. Zero-initialise it and set what the model needs:
+// `normal_force` and `dt` always.
+typedef struct rsl_contact_input {
+  // Normal force magnitude `f_n` (compressive positive, >= 0): applied to both bodies and
+  // used by every limit.
+  double normal_force;
+  // Time step (> 0).
+  double dt;
+  // Normal stiffness `k_n` (force/length): needed by EPSD-derived rolling stiffness and
+  // LIGGGHTS' cdt.
+  double normal_stiffness;
+  // Contact radius `a` for Marshall twisting; 0 means `sqrt(delta R_eff)`.
+  double contact_radius;
+  // Mass of body 1 (damping-ratio rolling damping only).
+  double mass1;
+  // Mass of body 2 (ignored for walls).
+  double mass2;
+  // Moment of inertia of body 1 (damping-ratio rolling damping only).
+  double inertia1;
+  // Moment of inertia of body 2 (ignored for walls).
+  double inertia2;
+  // Per-contact `k_t`, used with `RSL_INPUT_SLIDING_STIFFNESS`.
+  double sliding_stiffness;
+  // Per-contact `gamma_t`, used with `RSL_INPUT_SLIDING_DAMPING`.
+  double sliding_damping;
+  // Force used by the limits, with `RSL_INPUT_LIMIT_FORCE`.
+  double limit_force;
+  // OR of `RSL_INPUT_*`.
+  uint32_t flags;
+  // Padding; keep 0.
+  uint32_t reserved;
+} rsl_contact_input;
+
+// Energy terms of one step (load times length; 0 unless the model tracks energy).
+typedef struct rsl_contact_energy {
+  // Elastic energy in the sliding spring after the step.
+  double elastic_sliding;
+  // Elastic energy in the rolling spring after the step.
+  double elastic_rolling;
+  // Elastic energy in the twisting spring after the step.
+  double elastic_twisting;
+  // Dissipated by the sliding dashpot this step.
+  double dashpot_sliding;
+  // Dissipated by the rolling dashpot (viscous law included) this step.
+  double dashpot_rolling;
+  // Dissipated by the twisting dashpot this step.
+  double dashpot_twisting;
+  // Dissipated by the sliding slider (friction) this step.
+  double slider_sliding;
+  // Dissipated by the rolling slider (cdt included) this step.
+  double slider_rolling;
+  // Dissipated by the twisting slider this step.
+  double slider_twisting;
+  // Change of elastic energy caused by transporting the springs this step (0 to rounding
+  // for exact and project-rescale transport).
+  double transport;
+} rsl_contact_energy;
+
+// Loads of one contact step. Body 2 receives `-force1` and `torque2`.
+typedef struct rsl_contact_loads {
+  // Force on body 1: `-f_n n + F_t`.
+  struct rsl_vec3 force1;
+  // Torque on body 1 about its centre.
+  struct rsl_vec3 torque1;
+  // Torque on body 2 about its centre (wall: about the contact point).
+  struct rsl_vec3 torque2;
+  // Sliding force `F_t` on body 1.
+  struct rsl_vec3 sliding_force;
+  // Rolling moment on body 1 (body 2 gets its opposite).
+  struct rsl_vec3 rolling_moment;
+  // Twisting torque on body 1, `M_tw n` (YADE preset: its vector twisting moment); body 2
+  // gets the opposite.
+  struct rsl_vec3 twisting_torque;
+  // Energy terms.
+  struct rsl_contact_energy energy;
+  // `RSL_SLIP_*` bits.
+  uint32_t slip_flags;
+  // Padding.
+  uint32_t reserved;
+} rsl_contact_loads;
+
+// A flat wall in rigid motion (body 2 of a sphere-wall contact).
+typedef struct rsl_wall {
+  // Any point of the wall surface; the reference point of its motion.
+  struct rsl_vec3 point;
+  // Outward normal, from the wall towards the sphere's side; any non-zero length (it is
+  // normalised). The contact normal is its opposite.
+  struct rsl_vec3 normal;
+  // Velocity of the wall's material point at `point`.
+  struct rsl_vec3 velocity;
+  // Angular velocity of the wall.
+  struct rsl_vec3 angular_velocity;
+} rsl_wall;
+
+// Options of a decomposition. Pass NULL for the defaults (midplane, exact rolling radius,
+// every part), or start from `rsl_decompose_options_default()`.
+typedef struct rsl_decompose_options {
+  // `RSL_BRANCH_MIDPLANE` or `RSL_BRANCH_RADII`.
+  int32_t branch_rule;
+  // `RSL_ROLLING_RADIUS_EXACT` or `RSL_ROLLING_RADIUS_EFFECTIVE`.
+  int32_t rolling_radius_rule;
+  // OR of `RSL_PART_*` bits: the parts to compute (the geometry is always computed); parts
+  // not asked for are not computed and are reported as 0.
+  uint32_t parts;
+} rsl_decompose_options;
 
 // The decomposition of one contact (body 1 relative to body 2, `normal` from 1 to 2). Fields
 // of parts not asked for are 0. For a wall, `distance` and `branch2` are +infinity.
@@ -154,19 +393,6 @@ typedef struct rsl_decomposition {
   struct rsl_vec3 objective_velocity2;
 } rsl_decomposition;
 
-// A flat wall in rigid motion (body 2 of a sphere-wall contact).
-typedef struct rsl_wall {
-  // Any point of the wall surface; the reference point of its motion.
-  struct rsl_vec3 point;
-  // Outward normal, from the wall towards the sphere's side; any non-zero length (it is
-  // normalised). The contact normal is its opposite.
-  struct rsl_vec3 normal;
-  // Velocity of the wall's material point at `point`.
-  struct rsl_vec3 velocity;
-  // Angular velocity of the wall.
-  struct rsl_vec3 angular_velocity;
-} rsl_wall;
-
 // Velocities of two spheres (output of `rsl_compose`).
 typedef struct rsl_pair_velocities {
   // Velocity of the centre of body 1.
@@ -200,6 +426,34 @@ typedef struct rsl_legacy_rolling {
   struct rsl_vec3 iwashita_oda;
 } rsl_legacy_rolling;
 
+// Parameters of the rolling law (`rsl_model_set_rolling`). Start from
+// `rsl_model_get_rolling`, which returns the model's current ones (a preset's form and
+// damping mode included).
+typedef struct rsl_rolling_params {
+  // `RSL_ROLLING_*`.
+  int32_t law;
+  // `RSL_FORM_LENGTH` or `RSL_FORM_ANGLE`: the unit of the parameters and of the stored spring.
+  int32_t form;
+  // `RSL_STIFFNESS_*` (EPSD).
+  int32_t stiffness_rule;
+  // `RSL_DAMPING_GIVEN` or `RSL_DAMPING_RATIO` (EPSD).
+  int32_t damping_rule;
+  // `RSL_DAMPING_ALWAYS` or `RSL_DAMPING_BELOW_LIMIT` (EPSD).
+  int32_t damping_mode;
+  // Padding; set to 0.
+  int32_t reserved;
+  // `k_r` (force/length) or `k_theta` (moment/rad), >= 0.
+  double stiffness;
+  // `gamma_r`, `c_theta`, or the damping ratio, >= 0.
+  double damping;
+  // `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
+  double friction;
+  // cdt: rate `|(w1 - w2)_t|` below which the moment is zero, >= 0.
+  double rate_threshold;
+  // EPSD3 factor `c` (> 0 with `RSL_STIFFNESS_EPSD3`).
+  double stiffness_factor;
+} rsl_rolling_params;
+
 
 
 
@@ -217,6 +471,70 @@ typedef struct rsl_legacy_rolling {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Resets a contact state to a fresh contact (all zero).
+//
+// # Safety
+// `state` must be NULL or point to a writable `rsl_contact_state`.
+int32_t rsl_contact_state_init(struct rsl_contact_state *state);
+
+// Steps one sphere-sphere contact: transports the springs, computes the rates, steps the
+// model's sliding, rolling and twisting laws, and writes the loads on both bodies to `*out`.
+// `*state` and `*out` are written only on `RSL_OK` (with `RSL_INPUT_SETUP`, `*state` only
+// where the preset's code writes it at setup: LAMMPS).
+//
+// Errors: those of `rsl_decompose`, `RSL_ERR_INVALID_HANDLE`, `RSL_ERR_INVALID_TIME_STEP`,
+// `RSL_ERR_NEGATIVE_NORMAL_FORCE`, `RSL_ERR_INVALID_ARGUMENT` (an input the model needs is
+// missing or out of range, unknown flag), `RSL_ERR_NON_FINITE` (also for a non-finite state).
+//
+// # Safety
+// Every pointer must be valid for its type during the call; `state` and `out` must not
+// overlap each other or the inputs. The model must not be modified during the call.
+int32_t rsl_contact_step(const struct rsl_model *model,
+                         const struct rsl_sphere *body1,
+                         const struct rsl_sphere *body2,
+                         const struct rsl_contact_input *contact,
+                         struct rsl_contact_state *state,
+                         struct rsl_contact_loads *out);
+
+// Steps one sphere-wall contact (body 2 is the wall); as `rsl_contact_step`.
+//
+// # Safety
+// As `rsl_contact_step`.
+int32_t rsl_contact_step_wall(const struct rsl_model *model,
+                              const struct rsl_sphere *sphere,
+                              const struct rsl_wall *wall,
+                              const struct rsl_contact_input *contact,
+                              struct rsl_contact_state *state,
+                              struct rsl_contact_loads *out);
+
+// Critical time step of velocity Verlet for a rotational spring-dashpot (models.md section 5):
+// `dt_c = (2/w0)(sqrt(1 + z^2) - z)`, `w0 = sqrt(k_theta (1/I1 + 1/I2))`. `inertia2` may be
+// +INFINITY for a wall. Writes `*out` on success.
+//
+// # Safety
+// `out` must be NULL or writable.
+int32_t rsl_rotational_critical_time_step(double k_theta,
+                                          double inertia1,
+                                          double inertia2,
+                                          double damping_ratio,
+                                          double *out);
+
+// Stable step bound with sliding and rotational springs coupled (models.md section 5):
+// `2/sqrt(k_t (1/m1 + 1/m2 + l1^2/I1 + l2^2/I2) + k_theta (1/I1 + 1/I2))`. Body 2's mass and
+// inertia may be +INFINITY for a wall. Writes `*out` on success.
+//
+// # Safety
+// `out` must be NULL or writable.
+int32_t rsl_coupled_critical_time_step(double k_t,
+                                       double k_theta,
+                                       double mass1,
+                                       double mass2,
+                                       double inertia1,
+                                       double inertia2,
+                                       double l1,
+                                       double l2,
+                                       double *out);
 
 // The default options: midplane branches, exact rolling radius, every part.
 struct rsl_decompose_options rsl_decompose_options_default(void);
@@ -277,6 +595,78 @@ int32_t rsl_decompose_legacy(const struct rsl_sphere *body1,
                              const struct rsl_sphere *body2,
                              const struct rsl_decompose_options *options,
                              struct rsl_legacy_rolling *out);
+
+// Creates a model with every law off and the conventions of `preset` (`RSL_PRESET_*`); writes
+// the handle to `*out` on success.
+//
+// # Safety
+// `out` must be NULL or point to writable storage for one pointer.
+int32_t rsl_model_new(int32_t preset, struct rsl_model **out);
+
+// Releases a model. NULL is accepted and ignored. Using the handle afterwards is an error the
+// library detects on a best-effort basis (`RSL_ERR_INVALID_HANDLE`).
+//
+// # Safety
+// `model` must be NULL or a live pointer from `rsl_model_new`, not used by another thread.
+void rsl_model_free(struct rsl_model *model);
+
+// Sets the branch rule (`RSL_BRANCH_*`) and rolling radius rule (`RSL_ROLLING_RADIUS_*`).
+//
+// # Safety
+// `model` must be a live model not used by another thread during the call.
+int32_t rsl_model_set_geometry(struct rsl_model *model,
+                               int32_t branch_rule,
+                               int32_t rolling_radius_rule);
+
+// Sets the sliding law (`RSL_SLIDING_*`) with `k_t` (force/length), `gamma_t` (force
+// time/length) and `mu_s`, each finite and >= 0.
+//
+// # Safety
+// As `rsl_model_set_geometry`.
+int32_t rsl_model_set_sliding(struct rsl_model *model,
+                              int32_t law,
+                              double stiffness,
+                              double damping,
+                              double friction);
+
+// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` and `mu_tw`
+// (a length: the limit is `mu_tw f_n`), each finite and >= 0. `RSL_TWISTING_MARSHALL` derives
+// its coefficients from the sliding law and ignores these three.
+//
+// # Safety
+// As `rsl_model_set_geometry`.
+int32_t rsl_model_set_twisting(struct rsl_model *model,
+                               int32_t law,
+                               double stiffness,
+                               double damping,
+                               double friction);
+
+// Sets the rolling law and its parameters (see `rsl_rolling_params`).
+//
+// # Safety
+// As `rsl_model_set_geometry`; `params` must point to a valid `rsl_rolling_params`.
+int32_t rsl_model_set_rolling(struct rsl_model *model, const struct rsl_rolling_params *params);
+
+// Writes the model's current rolling parameters to `*out`.
+//
+// # Safety
+// `model` must be a live model; `out` writable.
+int32_t rsl_model_get_rolling(const struct rsl_model *model, struct rsl_rolling_params *out);
+
+// Sets the history transport schemes (`RSL_TRANSPORT_*`) of the sliding spring and of the
+// rolling spring (LIGGGHTS, for example, projects the first and never rotates the second).
+//
+// # Safety
+// As `rsl_model_set_geometry`.
+int32_t rsl_model_set_transport(struct rsl_model *model,
+                                int32_t sliding_scheme,
+                                int32_t rolling_scheme);
+
+// Turns the per-step energy bookkeeping on (`enabled` = 1) or off (0, the default).
+//
+// # Safety
+// As `rsl_model_set_geometry`.
+int32_t rsl_model_set_energy_tracking(struct rsl_model *model, int32_t enabled);
 
 // A static, NUL-terminated English description of a status code ("unknown status" for codes
 // this library does not define). Never NULL; do not free.

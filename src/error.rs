@@ -14,6 +14,12 @@ pub enum Error {
     /// A branch length `l_k` came out `<= 0` (overlap too deep for the branch rule, or a sphere
     /// centre more than one radius behind a wall); names the branch.
     NonPositiveBranch(&'static str),
+    /// The time step was not finite and > 0.
+    InvalidTimeStep,
+    /// The normal force was negative (compressive positive is required).
+    NegativeNormalForce,
+    /// A model parameter out of its domain; the message names the parameter.
+    InvalidParameter(String),
     /// A value out of its domain (option code, zero wall normal, bad parameter...), with the reason.
     InvalidArgument(String),
 }
@@ -33,6 +39,11 @@ impl fmt::Display for Error {
                 f,
                 "branch length {what} <= 0: overlap too deep for the branch rule"
             ),
+            Error::InvalidTimeStep => write!(f, "time step dt must be finite and > 0"),
+            Error::NegativeNormalForce => {
+                write!(f, "normal force must be >= 0 (compressive positive)")
+            }
+            Error::InvalidParameter(why) => write!(f, "invalid parameter: {why}"),
             Error::InvalidArgument(why) => write!(f, "invalid argument: {why}"),
         }
     }

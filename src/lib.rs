@@ -18,6 +18,7 @@ pub mod decompose;
 pub mod error;
 pub mod geometry;
 pub mod inverse;
+pub mod laws;
 pub mod legacy;
 pub mod loads;
 pub mod scalar;

@@ -22,7 +22,8 @@ pub struct ContactLoads<T: Real> {
     pub torque2: Vec3<T>,
 }
 
-/// Loads of one contact. Angular momentum about any point is conserved exactly: the force
+/// Loads of one contact from the rolling pseudo-force `F_r` (length form); see
+/// [`contact_loads_from_moment`] for a rolling moment given directly. Angular momentum about any point is conserved exactly: the force
 /// pair acts along a common line through `r_c` and the rolling and twisting parts are couples.
 #[inline(always)]
 pub fn contact_loads<T: Real>(
@@ -33,10 +34,45 @@ pub fn contact_loads<T: Real>(
     twisting_moment: T,
     is_wall: bool,
 ) -> ContactLoads<T> {
+    let rolling_moment = g.normal.cross(rolling_force) * g.rolling_radius;
+    contact_loads_from_moment(
+        g,
+        normal_force,
+        sliding_force,
+        &rolling_moment,
+        twisting_moment,
+        is_wall,
+    )
+}
+
+/// Loads of one contact from the rolling moment on body 1 (`R_r n x F_r` in the length form,
+/// `-k_theta theta_r - ...` in the angle form); body 2 receives its opposite.
+#[inline(always)]
+pub fn contact_loads_from_moment<T: Real>(
+    g: &ContactGeometry<T>,
+    normal_force: T,
+    sliding_force: &Vec3<T>,
+    rolling_moment: &Vec3<T>,
+    twisting_moment: T,
+    is_wall: bool,
+) -> ContactLoads<T> {
+    let couple = rolling_moment + g.normal * twisting_moment;
+    contact_loads_from_couple(g, normal_force, sliding_force, &couple, is_wall)
+}
+
+/// Loads of one contact from the total pure couple on body 1 (rolling moment plus twisting
+/// moment); body 2 receives the opposite couple plus the moment of the force pair.
+#[inline(always)]
+pub fn contact_loads_from_couple<T: Real>(
+    g: &ContactGeometry<T>,
+    normal_force: T,
+    sliding_force: &Vec3<T>,
+    couple: &Vec3<T>,
+    is_wall: bool,
+) -> ContactLoads<T> {
     let n = g.normal;
     let force1 = sliding_force - n * normal_force;
     let n_x_ft = n.cross(sliding_force);
-    let couple = n.cross(rolling_force) * g.rolling_radius + n * twisting_moment;
     let torque1 = n_x_ft * g.branch1 + couple;
     let torque2 = if is_wall {
         -couple

@@ -26,3 +26,29 @@ pub fn lit<T: Real>(x: f64) -> T {
 pub fn tangential<T: Real>(v: &Vec3<T>, n: &Vec3<T>) -> Vec3<T> {
     v - n * v.dot(n)
 }
+
+/// Lane-wise choice: `a` where `cond` holds, else `b` (a plain `if` for scalars).
+#[inline(always)]
+pub fn select<T: Real>(cond: T::SimdBool, a: T, b: T) -> T {
+    a.select(cond, b)
+}
+
+/// Lane-wise choice of vectors: `a` where `cond` holds, else `b`.
+#[inline(always)]
+pub fn select3<T: Real>(cond: T::SimdBool, a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
+    Vec3::new(
+        select(cond, a.x, b.x),
+        select(cond, a.y, b.y),
+        select(cond, a.z, b.z),
+    )
+}
+
+/// A lane mask with every lane set to `value`.
+#[inline(always)]
+pub fn mask<T: Real>(value: bool) -> T::SimdBool {
+    if value {
+        T::zero().simd_le(T::zero())
+    } else {
+        T::zero().simd_gt(T::zero())
+    }
+}

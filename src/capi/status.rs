@@ -23,6 +23,14 @@ pub const RSL_ERR_INVALID_ARGUMENT: i32 = 6;
 pub const RSL_ERR_MISALIGNED: i32 = 7;
 /// An internal error (a Rust panic) was caught at the C boundary; outputs were not written.
 pub const RSL_ERR_INTERNAL: i32 = 8;
+/// The time step was not finite and > 0.
+pub const RSL_ERR_INVALID_TIME_STEP: i32 = 9;
+/// The normal force was negative (compressive positive is required).
+pub const RSL_ERR_NEGATIVE_NORMAL_FORCE: i32 = 10;
+/// A model parameter or law code was invalid; the detail message names it. The model is unchanged.
+pub const RSL_ERR_INVALID_PARAMETER: i32 = 11;
+/// A model handle was not a live model (already freed, or not from `rsl_model_new`).
+pub const RSL_ERR_INVALID_HANDLE: i32 = 12;
 
 /// An error as seen by the C layer: a core error or a boundary problem.
 #[derive(Debug)]
@@ -31,6 +39,7 @@ pub(crate) enum FfiError {
     NullPointer(&'static str),
     Misaligned(&'static str),
     Panic(String),
+    InvalidHandle,
 }
 
 impl From<Error> for FfiError {
@@ -47,6 +56,10 @@ impl FfiError {
             FfiError::Core(Error::CoincidentCentres) => RSL_ERR_COINCIDENT_CENTRES,
             FfiError::Core(Error::NonPositiveBranch(_)) => RSL_ERR_NONPOSITIVE_BRANCH,
             FfiError::Core(Error::InvalidArgument(_)) => RSL_ERR_INVALID_ARGUMENT,
+            FfiError::Core(Error::InvalidTimeStep) => RSL_ERR_INVALID_TIME_STEP,
+            FfiError::Core(Error::NegativeNormalForce) => RSL_ERR_NEGATIVE_NORMAL_FORCE,
+            FfiError::Core(Error::InvalidParameter(_)) => RSL_ERR_INVALID_PARAMETER,
+            FfiError::InvalidHandle => RSL_ERR_INVALID_HANDLE,
             FfiError::NullPointer(_) => RSL_ERR_NULL_POINTER,
             FfiError::Misaligned(_) => RSL_ERR_MISALIGNED,
             FfiError::Panic(_) => RSL_ERR_INTERNAL,
@@ -59,6 +72,9 @@ impl FfiError {
             FfiError::NullPointer(what) => format!("null pointer: {what}"),
             FfiError::Misaligned(what) => format!("misaligned pointer: {what}"),
             FfiError::Panic(what) => format!("internal error (caught panic): {what}"),
+            FfiError::InvalidHandle => {
+                "model handle is not a live rsl_model (freed or never created)".to_string()
+            }
         }
     }
 }
@@ -86,6 +102,10 @@ pub extern "C" fn rsl_status_str(status: i32) -> *const libc::c_char {
         RSL_ERR_INVALID_ARGUMENT => b"invalid argument\0",
         RSL_ERR_MISALIGNED => b"misaligned pointer\0",
         RSL_ERR_INTERNAL => b"internal error (caught panic)\0",
+        RSL_ERR_INVALID_TIME_STEP => b"time step must be finite and > 0\0",
+        RSL_ERR_NEGATIVE_NORMAL_FORCE => b"negative normal force\0",
+        RSL_ERR_INVALID_PARAMETER => b"invalid model parameter\0",
+        RSL_ERR_INVALID_HANDLE => b"invalid model handle\0",
         _ => b"unknown status\0",
     };
     s.as_ptr().cast()

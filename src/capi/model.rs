@@ -1,0 +1,482 @@
+//! The contact model handle: `rsl_model_new` / `rsl_model_free` and validated setters. A setter
+//! that refuses its input returns `RSL_ERR_INVALID_PARAMETER` and leaves the model unchanged.
+#![allow(non_camel_case_types)]
+
+use super::status::FfiError;
+use super::{guard, input, output};
+use crate::error::Error;
+use crate::geometry::GeometryOptions;
+use crate::laws::model::{
+    DampingMode, Model, Preset, RollingDamping, RollingForm, RollingLaw, RollingParams,
+    RollingStiffness, SlidingLaw, SlidingParams, Transport, TwistingLaw, TwistingParams,
+};
+
+/// Preset: this library's objective definitions (default).
+pub const RSL_PRESET_OBJECTIVE: i32 = 0;
+/// Preset: LAMMPS 29 Sep 2021 `pair_style granular` (radii sliding, R_eff, project-rescale).
+pub const RSL_PRESET_LAMMPS_2021: i32 = 1;
+/// Preset: YADE 2023.02a CohFrict moment law / Mindlin with moments (angle form, first-order).
+pub const RSL_PRESET_YADE_2023: i32 = 2;
+/// Preset: LIGGGHTS-PUBLIC 3.8.0 rolling friction (angle form, damping below the limit).
+pub const RSL_PRESET_LIGGGHTS_3_8: i32 = 3;
+
+/// Sliding law: none.
+pub const RSL_SLIDING_NONE: i32 = 0;
+/// Sliding law: linear spring-dashpot-slider (LAMMPS linear_history).
+pub const RSL_SLIDING_LINEAR: i32 = 1;
+
+/// Rolling law: none.
+pub const RSL_ROLLING_NONE: i32 = 0;
+/// Rolling law: cdt (type A, constant moment).
+pub const RSL_ROLLING_CDT: i32 = 1;
+/// Rolling law: viscous (type B).
+pub const RSL_ROLLING_VISCOUS: i32 = 2;
+/// Rolling law: epsd (type C, elastic-plastic spring-dashpot).
+pub const RSL_ROLLING_EPSD: i32 = 3;
+
+/// Twisting law: none.
+pub const RSL_TWISTING_NONE: i32 = 0;
+/// Twisting law: spring-dashpot-slider.
+pub const RSL_TWISTING_SDS: i32 = 1;
+/// Twisting law: Marshall (from the sliding law and the contact radius).
+pub const RSL_TWISTING_MARSHALL: i32 = 2;
+
+/// Rolling parameters in length form (k_r force/length, gamma_r, mu_r dimensionless).
+pub const RSL_FORM_LENGTH: i32 = 0;
+/// Rolling parameters in angle form (k_theta moment/rad, c_theta, eta a length).
+pub const RSL_FORM_ANGLE: i32 = 1;
+
+/// EPSD stiffness: the given `stiffness`.
+pub const RSL_STIFFNESS_GIVEN: i32 = 0;
+/// EPSD stiffness: `k_theta = 2.25 k_n mu_r^2 R_r^2`.
+pub const RSL_STIFFNESS_EPSD: i32 = 1;
+/// EPSD stiffness: `k_theta = k_t R_r^2`.
+pub const RSL_STIFFNESS_EPSD2: i32 = 2;
+/// EPSD stiffness: `k_theta = c k_n mu_r^2 R_r^2` (`c` = `stiffness_factor`).
+pub const RSL_STIFFNESS_EPSD3: i32 = 3;
+
+/// EPSD damping: the given `damping` coefficient.
+pub const RSL_DAMPING_GIVEN: i32 = 0;
+/// EPSD damping: `damping` is a ratio `eta_r`, `c_theta = eta_r 2 sqrt(I_r k_theta)`.
+pub const RSL_DAMPING_RATIO: i32 = 1;
+
+/// Dashpot always on; the limit applies to spring + dashpot.
+pub const RSL_DAMPING_ALWAYS: i32 = 0;
+/// Dashpot only below the limit; the limit applies to the spring (LIGGGHTS).
+pub const RSL_DAMPING_BELOW_LIMIT: i32 = 1;
+
+/// Transport: exact rotation (default).
+pub const RSL_TRANSPORT_EXACT: i32 = 0;
+/// Transport: project and rescale (LAMMPS).
+pub const RSL_TRANSPORT_PROJECT_RESCALE: i32 = 1;
+/// Transport: first-order rotation (YADE).
+pub const RSL_TRANSPORT_FIRST_ORDER: i32 = 2;
+/// Transport: project, no rescale (LIGGGHTS sliding).
+pub const RSL_TRANSPORT_PROJECT: i32 = 3;
+/// Transport: none.
+pub const RSL_TRANSPORT_NONE: i32 = 4;
+
+const LIVE: u64 = 0x7273_6c5f_6d6f_6465; // "rsl_mode"
+const FREED: u64 = 0x6672_6565_645f_5f5f; // "freed___"
+
+/// An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
+/// release with `rsl_model_free`. A model is read-only during steps: one model can serve many
+/// threads at once as long as no thread calls a setter meanwhile.
+pub struct rsl_model {
+    magic: u64,
+    pub(crate) model: Model,
+}
+
+/// Parameters of the rolling law (`rsl_model_set_rolling`). Start from
+/// `rsl_model_get_rolling`, which returns the model's current ones (a preset's form and
+/// damping mode included).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct rsl_rolling_params {
+    /// `RSL_ROLLING_*`.
+    pub law: i32,
+    /// `RSL_FORM_LENGTH` or `RSL_FORM_ANGLE`: the unit of the parameters and of the stored spring.
+    pub form: i32,
+    /// `RSL_STIFFNESS_*` (EPSD).
+    pub stiffness_rule: i32,
+    /// `RSL_DAMPING_GIVEN` or `RSL_DAMPING_RATIO` (EPSD).
+    pub damping_rule: i32,
+    /// `RSL_DAMPING_ALWAYS` or `RSL_DAMPING_BELOW_LIMIT` (EPSD).
+    pub damping_mode: i32,
+    /// Padding; set to 0.
+    pub reserved: i32,
+    /// `k_r` (force/length) or `k_theta` (moment/rad), >= 0.
+    pub stiffness: f64,
+    /// `gamma_r`, `c_theta`, or the damping ratio, >= 0.
+    pub damping: f64,
+    /// `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
+    pub friction: f64,
+    /// cdt: rate `|(w1 - w2)_t|` below which the moment is zero, >= 0.
+    pub rate_threshold: f64,
+    /// EPSD3 factor `c` (> 0 with `RSL_STIFFNESS_EPSD3`).
+    pub stiffness_factor: f64,
+}
+
+/// Borrows a live model for reading.
+///
+/// # Safety
+/// `p` must be NULL or a pointer returned by `rsl_model_new` (freed pointers are detected on a
+/// best-effort basis only).
+pub(crate) unsafe fn live_model<'a>(p: *const rsl_model) -> Result<&'a rsl_model, FfiError> {
+    // SAFETY: forwarded contract.
+    let m = unsafe { input(p, "model")? };
+    if m.magic != LIVE {
+        return Err(FfiError::InvalidHandle);
+    }
+    Ok(m)
+}
+
+/// Applies a change to a copy of the model, validates it, and stores it only if valid.
+///
+/// # Safety
+/// As [`live_model`], for a model no other thread uses during the call.
+unsafe fn update(
+    p: *mut rsl_model,
+    change: impl FnOnce(&mut Model) -> Result<(), Error>,
+) -> Result<(), FfiError> {
+    // SAFETY: forwarded contract; the model is checked live before it is written.
+    let m = unsafe { output(p, "model")? };
+    if m.magic != LIVE {
+        return Err(FfiError::InvalidHandle);
+    }
+    let mut next = m.model;
+    change(&mut next)?;
+    next.validate()?;
+    m.model = next;
+    Ok(())
+}
+
+fn bad(what: &str, value: i32) -> Error {
+    Error::InvalidParameter(format!("{what} code {value} is not defined"))
+}
+
+fn parse_preset(code: i32) -> Result<Preset, Error> {
+    Ok(match code {
+        RSL_PRESET_OBJECTIVE => Preset::Objective,
+        RSL_PRESET_LAMMPS_2021 => Preset::Lammps2021,
+        RSL_PRESET_YADE_2023 => Preset::Yade2023,
+        RSL_PRESET_LIGGGHTS_3_8 => Preset::Liggghts38,
+        other => return Err(bad("preset", other)),
+    })
+}
+
+/// Creates a model with every law off and the conventions of `preset` (`RSL_PRESET_*`); writes
+/// the handle to `*out` on success.
+///
+/// # Safety
+/// `out` must be NULL or point to writable storage for one pointer.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_new(preset: i32, out: *mut *mut rsl_model) -> i32 {
+    guard(|| {
+        // SAFETY: NULL and alignment checked; writability is the caller's contract.
+        let out = unsafe { output(out, "out")? };
+        let preset = parse_preset(preset)?;
+        let boxed = Box::new(rsl_model {
+            magic: LIVE,
+            model: Model::with_preset(preset),
+        });
+        *out = Box::into_raw(boxed);
+        Ok(())
+    })
+}
+
+/// Releases a model. NULL is accepted and ignored. Using the handle afterwards is an error the
+/// library detects on a best-effort basis (`RSL_ERR_INVALID_HANDLE`).
+///
+/// # Safety
+/// `model` must be NULL or a live pointer from `rsl_model_new`, not used by another thread.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_free(model: *mut rsl_model) {
+    if model.is_null() || !model.is_aligned() {
+        return;
+    }
+    let _ = std::panic::catch_unwind(|| {
+        // SAFETY: non-null, aligned, and from rsl_model_new per the contract; the magic check
+        // refuses a double free that the allocator has not yet reused.
+        unsafe {
+            if (*model).magic != LIVE {
+                return;
+            }
+            (*model).magic = FREED;
+            drop(Box::from_raw(model));
+        }
+    });
+}
+
+/// Sets the branch rule (`RSL_BRANCH_*`) and rolling radius rule (`RSL_ROLLING_RADIUS_*`).
+///
+/// # Safety
+/// `model` must be a live model not used by another thread during the call.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_geometry(
+    model: *mut rsl_model,
+    branch_rule: i32,
+    rolling_radius_rule: i32,
+) -> i32 {
+    guard(|| {
+        let options = super::decompose::rsl_decompose_options {
+            branch_rule,
+            rolling_radius_rule,
+            parts: 0,
+        };
+        let (geometry, _): (GeometryOptions, _) = super::decompose::parse_options(Some(&options))
+            .map_err(|e| match e {
+            Error::InvalidArgument(m) => Error::InvalidParameter(m),
+            other => other,
+        })?;
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.geometry = geometry;
+                Ok(())
+            })
+        }
+    })
+}
+
+/// Sets the sliding law (`RSL_SLIDING_*`) with `k_t` (force/length), `gamma_t` (force
+/// time/length) and `mu_s`, each finite and >= 0.
+///
+/// # Safety
+/// As `rsl_model_set_geometry`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_sliding(
+    model: *mut rsl_model,
+    law: i32,
+    stiffness: f64,
+    damping: f64,
+    friction: f64,
+) -> i32 {
+    guard(|| {
+        let law = match law {
+            RSL_SLIDING_NONE => SlidingLaw::None,
+            RSL_SLIDING_LINEAR => SlidingLaw::Linear,
+            other => return Err(bad("sliding law", other).into()),
+        };
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.sliding = SlidingParams {
+                    law,
+                    stiffness,
+                    damping,
+                    friction,
+                };
+                Ok(())
+            })
+        }
+    })
+}
+
+/// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` and `mu_tw`
+/// (a length: the limit is `mu_tw f_n`), each finite and >= 0. `RSL_TWISTING_MARSHALL` derives
+/// its coefficients from the sliding law and ignores these three.
+///
+/// # Safety
+/// As `rsl_model_set_geometry`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_twisting(
+    model: *mut rsl_model,
+    law: i32,
+    stiffness: f64,
+    damping: f64,
+    friction: f64,
+) -> i32 {
+    guard(|| {
+        let law = match law {
+            RSL_TWISTING_NONE => TwistingLaw::None,
+            RSL_TWISTING_SDS => TwistingLaw::Sds,
+            RSL_TWISTING_MARSHALL => TwistingLaw::Marshall,
+            other => return Err(bad("twisting law", other).into()),
+        };
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.twisting = TwistingParams {
+                    law,
+                    stiffness,
+                    damping,
+                    friction,
+                };
+                Ok(())
+            })
+        }
+    })
+}
+
+fn rolling_from_c(p: &rsl_rolling_params) -> Result<RollingParams, Error> {
+    Ok(RollingParams {
+        law: match p.law {
+            RSL_ROLLING_NONE => RollingLaw::None,
+            RSL_ROLLING_CDT => RollingLaw::Cdt,
+            RSL_ROLLING_VISCOUS => RollingLaw::Viscous,
+            RSL_ROLLING_EPSD => RollingLaw::Epsd,
+            other => return Err(bad("rolling law", other)),
+        },
+        form: match p.form {
+            RSL_FORM_LENGTH => RollingForm::Length,
+            RSL_FORM_ANGLE => RollingForm::Angle,
+            other => return Err(bad("rolling form", other)),
+        },
+        stiffness_rule: match p.stiffness_rule {
+            RSL_STIFFNESS_GIVEN => RollingStiffness::Given,
+            RSL_STIFFNESS_EPSD => RollingStiffness::Epsd,
+            RSL_STIFFNESS_EPSD2 => RollingStiffness::Epsd2,
+            RSL_STIFFNESS_EPSD3 => RollingStiffness::Epsd3,
+            other => return Err(bad("rolling stiffness_rule", other)),
+        },
+        damping_rule: match p.damping_rule {
+            RSL_DAMPING_GIVEN => RollingDamping::Given,
+            RSL_DAMPING_RATIO => RollingDamping::Ratio,
+            other => return Err(bad("rolling damping_rule", other)),
+        },
+        damping_mode: match p.damping_mode {
+            RSL_DAMPING_ALWAYS => DampingMode::Always,
+            RSL_DAMPING_BELOW_LIMIT => DampingMode::BelowLimit,
+            other => return Err(bad("rolling damping_mode", other)),
+        },
+        stiffness: p.stiffness,
+        damping: p.damping,
+        friction: p.friction,
+        rate_threshold: p.rate_threshold,
+        stiffness_factor: p.stiffness_factor,
+    })
+}
+
+fn rolling_to_c(p: &RollingParams) -> rsl_rolling_params {
+    rsl_rolling_params {
+        law: match p.law {
+            RollingLaw::None => RSL_ROLLING_NONE,
+            RollingLaw::Cdt => RSL_ROLLING_CDT,
+            RollingLaw::Viscous => RSL_ROLLING_VISCOUS,
+            RollingLaw::Epsd => RSL_ROLLING_EPSD,
+        },
+        form: match p.form {
+            RollingForm::Length => RSL_FORM_LENGTH,
+            RollingForm::Angle => RSL_FORM_ANGLE,
+        },
+        stiffness_rule: match p.stiffness_rule {
+            RollingStiffness::Given => RSL_STIFFNESS_GIVEN,
+            RollingStiffness::Epsd => RSL_STIFFNESS_EPSD,
+            RollingStiffness::Epsd2 => RSL_STIFFNESS_EPSD2,
+            RollingStiffness::Epsd3 => RSL_STIFFNESS_EPSD3,
+        },
+        damping_rule: match p.damping_rule {
+            RollingDamping::Given => RSL_DAMPING_GIVEN,
+            RollingDamping::Ratio => RSL_DAMPING_RATIO,
+        },
+        damping_mode: match p.damping_mode {
+            DampingMode::Always => RSL_DAMPING_ALWAYS,
+            DampingMode::BelowLimit => RSL_DAMPING_BELOW_LIMIT,
+        },
+        reserved: 0,
+        stiffness: p.stiffness,
+        damping: p.damping,
+        friction: p.friction,
+        rate_threshold: p.rate_threshold,
+        stiffness_factor: p.stiffness_factor,
+    }
+}
+
+/// Sets the rolling law and its parameters (see `rsl_rolling_params`).
+///
+/// # Safety
+/// As `rsl_model_set_geometry`; `params` must point to a valid `rsl_rolling_params`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_rolling(
+    model: *mut rsl_model,
+    params: *const rsl_rolling_params,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract.
+        let p = unsafe { input(params, "params")? };
+        let rolling = rolling_from_c(p)?;
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.rolling = rolling;
+                Ok(())
+            })
+        }
+    })
+}
+
+/// Writes the model's current rolling parameters to `*out`.
+///
+/// # Safety
+/// `model` must be a live model; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_get_rolling(
+    model: *const rsl_model,
+    out: *mut rsl_rolling_params,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract.
+        let (m, out) = unsafe { (live_model(model)?, output(out, "out")?) };
+        *out = rolling_to_c(&m.model.rolling);
+        Ok(())
+    })
+}
+
+fn parse_transport(code: i32) -> Result<Transport, Error> {
+    Ok(match code {
+        RSL_TRANSPORT_EXACT => Transport::Exact,
+        RSL_TRANSPORT_PROJECT_RESCALE => Transport::ProjectRescale,
+        RSL_TRANSPORT_FIRST_ORDER => Transport::FirstOrder,
+        RSL_TRANSPORT_PROJECT => Transport::Project,
+        RSL_TRANSPORT_NONE => Transport::None,
+        other => return Err(bad("transport", other)),
+    })
+}
+
+/// Sets the history transport schemes (`RSL_TRANSPORT_*`) of the sliding spring and of the
+/// rolling spring (LIGGGHTS, for example, projects the first and never rotates the second).
+///
+/// # Safety
+/// As `rsl_model_set_geometry`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_transport(
+    model: *mut rsl_model,
+    sliding_scheme: i32,
+    rolling_scheme: i32,
+) -> i32 {
+    guard(|| {
+        let sliding = parse_transport(sliding_scheme)?;
+        let rolling = parse_transport(rolling_scheme)?;
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.sliding_transport = sliding;
+                m.rolling_transport = rolling;
+                Ok(())
+            })
+        }
+    })
+}
+
+/// Turns the per-step energy bookkeeping on (`enabled` = 1) or off (0, the default).
+///
+/// # Safety
+/// As `rsl_model_set_geometry`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_energy_tracking(model: *mut rsl_model, enabled: i32) -> i32 {
+    guard(|| {
+        let on = match enabled {
+            0 => false,
+            1 => true,
+            other => return Err(bad("energy tracking flag (0 or 1)", other).into()),
+        };
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.track_energy = on;
+                Ok(())
+            })
+        }
+    })
+}

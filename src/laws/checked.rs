@@ -1,0 +1,146 @@
+//! The checked contact step for scalar types: validates every input and the stored state,
+//! runs the generic step on a copy, and commits the new state only when every output is finite.
+
+use crate::decompose::{decompose_pair, decompose_wall, Parts, Sphere, Wall};
+use crate::error::Error;
+use crate::geometry::check_finite_vec;
+use crate::laws::model::{Model, Preset, RollingDamping, RollingLaw, RollingStiffness};
+use crate::laws::step::{contact_step_unchecked, ContactState, Partner, StepInput, StepOutput};
+use nalgebra::RealField;
+
+fn finite_nonneg<T: RealField + Copy>(x: T, what: &str) -> Result<(), Error> {
+    if !x.is_finite() {
+        return Err(Error::InvalidArgument(format!("{what} must be finite")));
+    }
+    if x < T::zero() {
+        return Err(Error::InvalidArgument(format!("{what} must be >= 0")));
+    }
+    Ok(())
+}
+
+fn positive<T: RealField + Copy>(x: T, what: &str) -> Result<(), Error> {
+    if x.is_finite() && x > T::zero() {
+        Ok(())
+    } else {
+        Err(Error::InvalidArgument(format!(
+            "{what} must be finite and > 0 for this model"
+        )))
+    }
+}
+
+fn check_input<T: RealField + Copy>(
+    model: &Model,
+    input: &StepInput<T>,
+    wall: bool,
+) -> Result<(), Error> {
+    if !input.normal_force.is_finite() {
+        return Err(Error::NonFinite("normal force"));
+    }
+    if input.normal_force < T::zero() {
+        return Err(Error::NegativeNormalForce);
+    }
+    if !(input.dt.is_finite() && input.dt > T::zero()) {
+        return Err(Error::InvalidTimeStep);
+    }
+    finite_nonneg(input.normal_stiffness, "normal_stiffness")?;
+    finite_nonneg(input.contact_radius, "contact_radius")?;
+    finite_nonneg(input.mass1, "mass1")?;
+    finite_nonneg(input.mass2, "mass2")?;
+    finite_nonneg(input.inertia1, "inertia1")?;
+    finite_nonneg(input.inertia2, "inertia2")?;
+    if let Some(k) = input.sliding_stiffness {
+        finite_nonneg(k, "sliding_stiffness")?;
+    }
+    if let Some(g) = input.sliding_damping {
+        finite_nonneg(g, "sliding_damping")?;
+    }
+    if let Some(f) = input.limit_force {
+        finite_nonneg(f, "limit_force")?;
+    }
+    let r = &model.rolling;
+    let needs_kn = (r.law == RollingLaw::Epsd
+        && matches!(
+            r.stiffness_rule,
+            RollingStiffness::Epsd | RollingStiffness::Epsd3
+        ))
+        || (r.law == RollingLaw::Cdt && model.preset == Preset::Liggghts38);
+    if needs_kn {
+        positive(input.normal_stiffness, "normal_stiffness")?;
+    }
+    if r.law == RollingLaw::Epsd && r.damping_rule == RollingDamping::Ratio {
+        positive(input.mass1, "mass1")?;
+        finite_nonneg(input.inertia1, "inertia1")?;
+        if !wall {
+            positive(input.mass2, "mass2")?;
+        }
+    }
+    Ok(())
+}
+
+fn check_state<T: RealField + Copy>(s: &ContactState<T>) -> Result<(), Error> {
+    check_finite_vec(&s.sliding_spring, "state: sliding spring")?;
+    check_finite_vec(&s.rolling_spring, "state: rolling spring")?;
+    check_finite_vec(&s.previous_normal, "state: previous normal")?;
+    check_finite_vec(&s.twisting_offaxis, "state: twisting off-axis part")?;
+    if !s.twisting_angle.is_finite() {
+        return Err(Error::NonFinite("state: twisting angle"));
+    }
+    Ok(())
+}
+
+fn check_output<T: RealField + Copy>(
+    out: &StepOutput<T>,
+    state: &ContactState<T>,
+) -> Result<(), Error> {
+    let l = &out.loads;
+    for (v, what) in [
+        (&l.force1, "force"),
+        (&l.torque1, "torque on body 1"),
+        (&l.torque2, "torque on body 2"),
+    ] {
+        check_finite_vec(v, what).map_err(|_| Error::NonFinite("result overflowed"))?;
+    }
+    check_state(state).map_err(|_| Error::NonFinite("new state overflowed"))
+}
+
+/// One checked step of a sphere pair: every input and the state are validated, and `state` is
+/// written only on success (and not at all with `input.setup`).
+pub fn contact_step_pair<T: RealField + Copy>(
+    model: &Model,
+    body1: &Sphere<T>,
+    body2: &Sphere<T>,
+    input: &StepInput<T>,
+    state: &mut ContactState<T>,
+) -> Result<StepOutput<T>, Error> {
+    // The decomposition's own checks (finite bodies, radii, coincident centres, branches).
+    decompose_pair(body1, body2, model.geometry, Parts(0))?;
+    check_input(model, input, false)?;
+    check_state(state)?;
+    let mut next = *state;
+    let out = contact_step_unchecked(model, body1, Partner::Sphere(body2), input, &mut next);
+    check_output(&out, &next)?;
+    *state = next;
+    Ok(out)
+}
+
+/// One checked step of a sphere against a flat wall (the wall normal need not be unit).
+pub fn contact_step_wall<T: RealField + Copy>(
+    model: &Model,
+    sphere: &Sphere<T>,
+    wall: &Wall<T>,
+    input: &StepInput<T>,
+    state: &mut ContactState<T>,
+) -> Result<StepOutput<T>, Error> {
+    let d = decompose_wall(sphere, wall, model.geometry, Parts(0))?;
+    check_input(model, input, true)?;
+    check_state(state)?;
+    let unit = Wall {
+        normal: -d.geometry.normal,
+        ..*wall
+    };
+    let mut next = *state;
+    let out = contact_step_unchecked(model, sphere, Partner::Wall(&unit), input, &mut next);
+    check_output(&out, &next)?;
+    *state = next;
+    Ok(out)
+}

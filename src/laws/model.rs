@@ -1,0 +1,311 @@
+//! The configuration of a contact model: which sliding, rolling and twisting laws are on, their
+//! parameters, the history transport scheme, and the compatibility preset (models.md).
+
+use crate::error::Error;
+use crate::geometry::{BranchRule, GeometryOptions, RollingRadiusRule};
+
+/// Sliding (tangential force) law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SlidingLaw {
+    /// No tangential force.
+    #[default]
+    None,
+    /// Spring-dashpot-slider on the sliding spring `xi_s` (LAMMPS linear_history).
+    Linear,
+}
+
+/// Rolling resistance law (models.md section 3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RollingLaw {
+    /// No rolling resistance.
+    #[default]
+    None,
+    /// Type A: constant moment `mu_r R_r f_n` opposing `(w1 - w2)_t`, zero below a rate threshold.
+    Cdt,
+    /// Type B: viscous `F_r = -gamma_r v_r`, limited by `mu_r f_n`.
+    Viscous,
+    /// Type C: elastic-plastic spring-dashpot on the rolling spring.
+    Epsd,
+}
+
+/// Twisting resistance law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum TwistingLaw {
+    /// No twisting resistance.
+    #[default]
+    None,
+    /// Spring-dashpot-slider on the twist angle, moment `M_tw n` on body 1.
+    Sds,
+    /// Marshall 2009: `k_tw = k_t a^2/2`, `gamma_tw = gamma_t a^2/2`, `mu_tw = 2/3 a mu_s`.
+    Marshall,
+}
+
+/// How the rolling parameters (and the rolling spring stored in the state) are expressed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RollingForm {
+    /// LAMMPS style: `F_r = -k_r xi_r - gamma_r v_r` with `xi_r` a length, limit `mu_r f_n`
+    /// (`mu_r` dimensionless), moment `R_r n x F_r`.
+    #[default]
+    Length,
+    /// YADE style: `M = -k_theta theta_r - c_theta (w1 - w2)_t` with `theta_r` in radians,
+    /// limit `eta f_n` (`eta` a length).
+    Angle,
+}
+
+/// Where the EPSD rolling stiffness comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RollingStiffness {
+    /// The model's `stiffness` parameter (k_r or k_theta by the form).
+    #[default]
+    Given,
+    /// `k_theta = 2.25 k_n mu_r^2 R_r^2` (LIGGGHTS epsd).
+    Epsd,
+    /// `k_theta = k_t R_r^2` (LIGGGHTS epsd2).
+    Epsd2,
+    /// `k_theta = c k_n mu_r^2 R_r^2` with `c` the model's `stiffness_factor` (LIGGGHTS epsd3).
+    Epsd3,
+}
+
+/// Where the EPSD rolling damping comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RollingDamping {
+    /// The model's `damping` parameter (gamma_r or c_theta by the form).
+    #[default]
+    Given,
+    /// A damping ratio `eta_r` (the `damping` parameter): `c_theta = eta_r 2 sqrt(I_r k_theta)`,
+    /// `I_r = 1/(1/(I1 + m1 R1^2) + 1/(I2 + m2 R2^2))`; needs masses and inertias per call.
+    Ratio,
+}
+
+/// When a spring's dashpot acts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DampingMode {
+    /// Always; the limit applies to spring + dashpot (LAMMPS, models.md section 2).
+    #[default]
+    Always,
+    /// Only below the limit, which applies to the spring alone (LIGGGHTS).
+    BelowLimit,
+}
+
+/// History transport scheme (models.md section 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Transport {
+    /// Minimal rotation `n_old -> n_new`, then rotation about `n_new` by `dt w_rbs` (default).
+    #[default]
+    Exact,
+    /// Project on the new tangent plane and rescale to the old length (LAMMPS 2021).
+    ProjectRescale,
+    /// `u -= u x (n_old x n_new)`; `u -= u x (dt/2 ((w1 + w2) . n_old) n_old)` (YADE 2023).
+    FirstOrder,
+    /// Project on the tangent plane, no rescale (LIGGGHTS 3.8 sliding).
+    Project,
+    /// No transport.
+    None,
+}
+
+/// Compatibility preset: reproduce a public code's step semantics.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Preset {
+    /// This library's objective definitions (default).
+    #[default]
+    Objective,
+    /// LAMMPS 29 Sep 2021 `pair_style granular`.
+    Lammps2021,
+    /// YADE 2023.02a CohFrict moment law / Mindlin with moments.
+    Yade2023,
+    /// LIGGGHTS-PUBLIC 3.8.0 `rolling_friction cdt|epsd|epsd2|epsd3`.
+    Liggghts38,
+}
+
+/// Parameters of the sliding law (force per length, force time per length, dimensionless).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct SlidingParams {
+    /// Which law.
+    pub law: SlidingLaw,
+    /// `k_t` (force/length), >= 0.
+    pub stiffness: f64,
+    /// `gamma_t` (force time/length), >= 0.
+    pub damping: f64,
+    /// Friction coefficient `mu_s` (dimensionless), >= 0; +inf for no limit.
+    pub friction: f64,
+}
+
+/// Parameters of the rolling law. Units follow [`RollingForm`].
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct RollingParams {
+    /// Which law.
+    pub law: RollingLaw,
+    /// Length or angle parameterisation (also the unit of the stored rolling spring).
+    pub form: RollingForm,
+    /// `k_r` (force/length) or `k_theta` (moment/rad), >= 0; used with [`RollingStiffness::Given`].
+    pub stiffness: f64,
+    /// `gamma_r`, `c_theta`, or the damping ratio `eta_r` with [`RollingDamping::Ratio`]; >= 0.
+    pub damping: f64,
+    /// `mu_r` (dimensionless, length form) or `eta` (a length, angle form), >= 0; +inf for no
+    /// limit (not for cdt).
+    pub friction: f64,
+    /// cdt: relative rolling rate `|(w1 - w2)_t|` (rad/time) below which the moment is zero.
+    pub rate_threshold: f64,
+    /// EPSD stiffness rule.
+    pub stiffness_rule: RollingStiffness,
+    /// EPSD3 factor `c` (> 0 when used).
+    pub stiffness_factor: f64,
+    /// EPSD damping rule.
+    pub damping_rule: RollingDamping,
+    /// EPSD damping mode.
+    pub damping_mode: DampingMode,
+}
+
+/// Parameters of the twisting law (`sds`; `marshall` derives them from the sliding law).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct TwistingParams {
+    /// Which law.
+    pub law: TwistingLaw,
+    /// `k_tw` (moment/rad), >= 0.
+    pub stiffness: f64,
+    /// `gamma_tw` (moment time/rad), >= 0.
+    pub damping: f64,
+    /// `mu_tw` (a length: the moment limit is `mu_tw f_n`), >= 0; +inf for no limit.
+    pub friction: f64,
+}
+
+/// A complete contact model. `Model::default()` has every law off, exact transport, the
+/// objective definitions and energy bookkeeping off.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Model {
+    /// Branch rule and rolling radius of the kinematics.
+    pub geometry: GeometryOptions,
+    /// Sliding law.
+    pub sliding: SlidingParams,
+    /// Rolling law.
+    pub rolling: RollingParams,
+    /// Twisting law.
+    pub twisting: TwistingParams,
+    /// Transport of the sliding spring (and of YADE's vector twist).
+    pub sliding_transport: Transport,
+    /// Transport of the rolling spring.
+    pub rolling_transport: Transport,
+    /// Compatibility preset.
+    pub preset: Preset,
+    /// Compute the energy terms of each step (costs a few flops per spring).
+    pub track_energy: bool,
+}
+
+/// A limit coefficient: finite and >= 0, or +inf for "no limit".
+fn check_friction(value: f64, name: &str) -> Result<(), Error> {
+    if value == f64::INFINITY || (value.is_finite() && value >= 0.0) {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter(format!(
+            "{name} = {value} must be >= 0 (or +inf for no limit)"
+        )))
+    }
+}
+
+fn check_param(value: f64, name: &str, strictly_positive: bool) -> Result<(), Error> {
+    let ok = value.is_finite()
+        && if strictly_positive {
+            value > 0.0
+        } else {
+            value >= 0.0
+        };
+    if ok {
+        Ok(())
+    } else {
+        let need = if strictly_positive { "> 0" } else { ">= 0" };
+        Err(Error::InvalidParameter(format!(
+            "{name} = {value} must be finite and {need}"
+        )))
+    }
+}
+
+impl SlidingParams {
+    /// Checks the parameters, naming the first bad one.
+    pub fn validate(&self) -> Result<(), Error> {
+        check_param(self.stiffness, "sliding stiffness k_t", false)?;
+        check_param(self.damping, "sliding damping gamma_t", false)?;
+        check_friction(self.friction, "sliding friction mu_s")
+    }
+}
+
+impl RollingParams {
+    /// Checks the parameters, naming the first bad one.
+    pub fn validate(&self) -> Result<(), Error> {
+        check_param(self.stiffness, "rolling stiffness", false)?;
+        check_param(self.damping, "rolling damping", false)?;
+        if self.law == RollingLaw::Cdt {
+            check_param(self.friction, "rolling friction (cdt)", false)?;
+        } else {
+            check_friction(self.friction, "rolling friction")?;
+        }
+        check_param(self.rate_threshold, "rolling rate_threshold", false)?;
+        if self.stiffness_rule == RollingStiffness::Epsd3 {
+            check_param(
+                self.stiffness_factor,
+                "rolling stiffness_factor (epsd3)",
+                true,
+            )?;
+        } else {
+            check_param(self.stiffness_factor, "rolling stiffness_factor", false)?;
+        }
+        Ok(())
+    }
+}
+
+impl TwistingParams {
+    /// Checks the parameters, naming the first bad one.
+    pub fn validate(&self) -> Result<(), Error> {
+        check_param(self.stiffness, "twisting stiffness k_tw", false)?;
+        check_param(self.damping, "twisting damping gamma_tw", false)?;
+        check_friction(self.friction, "twisting friction mu_tw")
+    }
+}
+
+impl Model {
+    /// The model of a preset with every law off; the preset fixes the conventions (branch rule,
+    /// rolling radius, transport, rolling form, damping mode) that its code uses.
+    pub fn with_preset(preset: Preset) -> Model {
+        let mut m = Model {
+            preset,
+            ..Model::default()
+        };
+        match preset {
+            Preset::Objective => {}
+            Preset::Lammps2021 => {
+                m.geometry = GeometryOptions {
+                    branch_rule: BranchRule::Midplane,
+                    rolling_radius: RollingRadiusRule::Effective,
+                };
+                m.sliding_transport = Transport::ProjectRescale;
+                m.rolling_transport = Transport::ProjectRescale;
+            }
+            Preset::Yade2023 => {
+                m.geometry = GeometryOptions {
+                    branch_rule: BranchRule::Midplane,
+                    rolling_radius: RollingRadiusRule::Effective,
+                };
+                m.sliding_transport = Transport::FirstOrder;
+                m.rolling_transport = Transport::FirstOrder;
+                m.rolling.form = RollingForm::Angle;
+            }
+            Preset::Liggghts38 => {
+                m.geometry = GeometryOptions {
+                    branch_rule: BranchRule::Midplane,
+                    rolling_radius: RollingRadiusRule::Effective,
+                };
+                m.sliding_transport = Transport::Project;
+                m.rolling_transport = Transport::None;
+                m.rolling.form = RollingForm::Angle;
+                m.rolling.damping_mode = DampingMode::BelowLimit;
+            }
+        }
+        m
+    }
+
+    /// Checks every parameter.
+    pub fn validate(&self) -> Result<(), Error> {
+        self.sliding.validate()?;
+        self.rolling.validate()?;
+        self.twisting.validate()
+    }
+}

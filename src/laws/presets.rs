@@ -1,0 +1,110 @@
+//! What each compatibility preset changes in the step (peers.md): the sliding rate, the clip
+//! rules, what the springs store, the setup pass, and a few law details. Everything here is
+//! decided once per call from the model, never per contact lane.
+
+use crate::laws::model::Preset;
+use crate::laws::spring::{ClipRule, Storage};
+
+/// Which sliding velocity drives the sliding spring.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlidingRate {
+    /// The decomposition's `v_s` with the model's branch rule (objective with midplane).
+    Branches,
+    /// Full radii as arms (LAMMPS): `v_s + (delta/2)(w1 + w2) x n`.
+    Radii,
+    /// YADE's incident velocity (avoidGranularRatcheting): full radii and `(v2 - v1)_t`
+    /// scaled by `(R1 + R2)/d`: `v_s(radii) - (delta/d)(v2 - v1)_t`.
+    YadeScaled,
+}
+
+/// What the setup pass (`StepInput::setup`) does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SetupRule {
+    /// Whether the sliding spring gets this step's increment.
+    pub sliding_increment: bool,
+    /// Whether the rolling spring gets this step's increment.
+    pub rolling_increment: bool,
+    /// Whether the state is written (LAMMPS: its clip writes the history even at setup).
+    pub store: bool,
+}
+
+/// The step conventions of a preset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Conventions {
+    /// Rate of the sliding spring.
+    pub sliding_rate: SlidingRate,
+    /// Clip of the sliding spring.
+    pub sliding_clip: ClipRule,
+    /// Clip of the rolling spring when its dashpot acts always.
+    pub rolling_clip: ClipRule,
+    /// Clip of the twisting spring.
+    pub twisting_clip: ClipRule,
+    /// What the sliding spring stores.
+    pub sliding_storage: Storage,
+    /// What the rolling spring stores.
+    pub rolling_storage: Storage,
+    /// YADE keeps the twisting moment as a vector, transported like the shear force.
+    pub twist_vector: bool,
+    /// LIGGGHTS' cdt: elastic normal force `k_n delta`, direction `(w/|w|)_t`.
+    pub cdt_liggghts: bool,
+    /// LAMMPS transports a spring only when `|xi . n| k > 1e-10 mu f_n`.
+    pub lammps_rescale_threshold: bool,
+    /// The setup pass.
+    pub setup: SetupRule,
+}
+
+impl Preset {
+    /// The conventions of this preset.
+    pub fn conventions(self) -> Conventions {
+        let objective = Conventions {
+            sliding_rate: SlidingRate::Branches,
+            sliding_clip: ClipRule::Total,
+            rolling_clip: ClipRule::Total,
+            twisting_clip: ClipRule::Total,
+            sliding_storage: Storage::Displacement,
+            rolling_storage: Storage::Displacement,
+            twist_vector: false,
+            cdt_liggghts: false,
+            lammps_rescale_threshold: false,
+            setup: SetupRule {
+                sliding_increment: false,
+                rolling_increment: false,
+                store: false,
+            },
+        };
+        match self {
+            Preset::Objective => objective,
+            Preset::Lammps2021 => Conventions {
+                sliding_rate: SlidingRate::Radii,
+                sliding_clip: ClipRule::Lammps,
+                rolling_clip: ClipRule::Lammps,
+                twisting_clip: ClipRule::Lammps,
+                lammps_rescale_threshold: true,
+                setup: SetupRule {
+                    sliding_increment: false,
+                    rolling_increment: false,
+                    store: true,
+                },
+                ..objective
+            },
+            Preset::Yade2023 => Conventions {
+                sliding_rate: SlidingRate::YadeScaled,
+                sliding_storage: Storage::Load,
+                rolling_storage: Storage::Load,
+                twist_vector: true,
+                ..objective
+            },
+            Preset::Liggghts38 => Conventions {
+                sliding_clip: ClipRule::SpringOnly,
+                rolling_storage: Storage::Load,
+                cdt_liggghts: true,
+                setup: SetupRule {
+                    sliding_increment: false,
+                    rolling_increment: true,
+                    store: false,
+                },
+                ..objective
+            },
+        }
+    }
+}

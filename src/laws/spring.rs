@@ -1,0 +1,257 @@
+//! One step of a spring-dashpot-slider (models.md section 2, steps 3-5), for a vector spring
+//! (sliding, rolling; YADE's twist) and a scalar one (twisting), with its energy terms.
+//! Written once for every [`Real`] type: the clip is a lane-wise select, not a branch.
+
+use crate::scalar::{lit, mask, select, select3, Real, Vec3};
+
+/// How the limit is applied when the trial load exceeds it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClipRule {
+    /// Scale the total load (spring + dashpot) to the limit and reset the spring so that
+    /// `load = spring load - gamma v` still holds (models.md section 2; YADE has no dashpot).
+    Total,
+    /// As `Total`, except LAMMPS' corner case: a slipping spring of zero length gives a zero
+    /// load. For scalar springs also LAMMPS' sign rule: the clipped moment takes the sign of
+    /// the rate (and is zero when the rate is zero).
+    Lammps,
+    /// The limit applies to the spring alone, scaled radially; the dashpot acts only below the
+    /// limit (LIGGGHTS), so the load can exceed the limit by the dashpot.
+    SpringOnly,
+}
+
+/// What the stored spring holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Storage {
+    /// A displacement `xi` (length or angle): spring load `-k xi` with the current `k`
+    /// (LAMMPS, LIGGGHTS sliding, the objective default).
+    Displacement,
+    /// The elastic load itself, built incrementally: `E += -k v dt` with the current `k`
+    /// (YADE; LIGGGHTS' rolling torque). Identical to `Displacement` while `k` is constant.
+    Load,
+}
+
+/// Coefficients of one spring for this step.
+#[derive(Clone, Copy, Debug)]
+pub struct SpringCoefficients<T: Real> {
+    /// Stiffness `k` (>= 0).
+    pub stiffness: T,
+    /// Dashpot `gamma` (>= 0).
+    pub damping: T,
+    /// Load limit (>= 0, may be +inf), e.g. `mu f_n`.
+    pub limit: T,
+}
+
+/// Energy terms of one spring for one step (load times displacement units).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringEnergy<T> {
+    /// Elastic energy stored after the step, `|E|^2 / (2 k)` with `E` the spring load.
+    pub elastic: T,
+    /// Dissipated by the dashpot this step, `gamma |v|^2 dt` when it acted.
+    pub dashpot: T,
+    /// Dissipated by the slider this step: the elastic energy the slip released,
+    /// `(|E_trial|^2 - |E_new|^2) / (2 k)`.
+    pub slider: T,
+}
+
+impl<T: Real> SpringEnergy<T> {
+    /// All terms zero.
+    pub fn zero() -> Self {
+        SpringEnergy {
+            elastic: T::zero(),
+            dashpot: T::zero(),
+            slider: T::zero(),
+        }
+    }
+}
+
+/// Result of a vector spring step.
+#[derive(Clone, Copy, Debug)]
+pub struct VectorSpringStep<T: Real> {
+    /// The load (force or moment) on body 1.
+    pub load: Vec3<T>,
+    /// The spring after the step.
+    pub spring: Vec3<T>,
+    /// Lanes where the limit was reached.
+    pub slipped: T::SimdBool,
+    /// Energy terms (zero unless asked for).
+    pub energy: SpringEnergy<T>,
+}
+
+/// Result of a scalar spring step.
+#[derive(Clone, Copy, Debug)]
+pub struct ScalarSpringStep<T: Real> {
+    /// The moment on body 1 about `n`.
+    pub load: T,
+    /// The spring after the step.
+    pub spring: T,
+    /// Lanes where the limit was reached.
+    pub slipped: T::SimdBool,
+    /// Energy terms (zero unless asked for).
+    pub energy: SpringEnergy<T>,
+}
+
+/// `|E|^2 / (2 k)`, zero where `k = 0`.
+#[inline(always)]
+fn energy_of<T: Real>(load2: T, k: T) -> T {
+    let positive = k.simd_gt(T::zero());
+    select(
+        positive,
+        load2 * lit(0.5) / select(positive, k, T::one()),
+        T::zero(),
+    )
+}
+
+/// Steps a vector spring: the trial spring adds `v dt` (when `increment`), the trial load is
+/// the spring load minus `gamma v`, then the clip of `rule`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn vector_spring<T: Real>(
+    spring: &Vec3<T>,
+    rate: &Vec3<T>,
+    dt: T,
+    c: &SpringCoefficients<T>,
+    rule: ClipRule,
+    storage: Storage,
+    increment: bool,
+    energy: bool,
+) -> VectorSpringStep<T> {
+    let zero = T::zero();
+    let k = c.stiffness;
+    let trial = match (increment, storage) {
+        (false, _) => *spring,
+        (true, Storage::Displacement) => spring + rate * dt,
+        (true, Storage::Load) => spring - rate * (k * dt),
+    };
+    let elastic_trial = match storage {
+        Storage::Displacement => trial * (-k),
+        Storage::Load => trial,
+    };
+    let damping_load = rate * c.damping;
+    let k_positive = k.simd_gt(zero);
+    let safe_k = select(k_positive, k, T::one());
+    let (load, new_spring, new_elastic, slipped, damped) = match rule {
+        ClipRule::Total | ClipRule::Lammps => {
+            let load = elastic_trial - damping_load;
+            let magnitude = load.norm();
+            let slipped = magnitude.simd_gt(c.limit);
+            let scale = c.limit / select(slipped, magnitude, T::one());
+            let mut clipped = load * scale;
+            let mut damped = mask::<T>(true);
+            if rule == ClipRule::Lammps {
+                // LAMMPS: a slipping spring of zero length gives no load at all.
+                let empty = slipped & trial.norm_squared().simd_le(zero);
+                clipped = select3(empty, &Vec3::zeros(), &clipped);
+                damped = !empty;
+            }
+            let elastic_reset = clipped + damping_load;
+            let spring_reset = match storage {
+                Storage::Displacement => select3(k_positive, &(elastic_reset / (-safe_k)), &trial),
+                Storage::Load => elastic_reset,
+            };
+            let new_spring = select3(slipped, &spring_reset, &trial);
+            let new_elastic = select3(slipped, &elastic_reset, &elastic_trial);
+            let load = select3(slipped, &clipped, &load);
+            (load, new_spring, new_elastic, slipped, damped)
+        }
+        ClipRule::SpringOnly => {
+            let magnitude = elastic_trial.norm();
+            let slipped = magnitude.simd_gt(c.limit);
+            let scale = c.limit / select(slipped, magnitude, T::one());
+            let new_spring = select3(slipped, &(trial * scale), &trial);
+            let new_elastic = select3(slipped, &(elastic_trial * scale), &elastic_trial);
+            let load = select3(slipped, &new_elastic, &(new_elastic - damping_load));
+            (load, new_spring, new_elastic, slipped, !slipped)
+        }
+    };
+    let energy = if energy {
+        let elastic = energy_of(new_elastic.norm_squared(), k);
+        SpringEnergy {
+            elastic,
+            dashpot: select(damped, c.damping * rate.norm_squared() * dt, zero),
+            slider: energy_of(elastic_trial.norm_squared(), k) - elastic,
+        }
+    } else {
+        SpringEnergy::zero()
+    };
+    VectorSpringStep {
+        load,
+        spring: new_spring,
+        slipped,
+        energy,
+    }
+}
+
+/// Steps a scalar (twisting) spring stored as a displacement (angle); see [`vector_spring`].
+/// Under [`ClipRule::Total`] the clipped moment keeps the sign of the trial moment; under
+/// [`ClipRule::Lammps`] it takes the sign of the rate (zero when the rate is zero).
+#[inline(always)]
+pub fn scalar_spring<T: Real>(
+    spring: T,
+    rate: T,
+    dt: T,
+    c: &SpringCoefficients<T>,
+    rule: ClipRule,
+    increment: bool,
+    energy: bool,
+) -> ScalarSpringStep<T> {
+    let zero = T::zero();
+    let one = T::one();
+    let trial = if increment {
+        spring + rate * dt
+    } else {
+        spring
+    };
+    let damping_load = rate * c.damping;
+    let k_positive = c.stiffness.simd_gt(zero);
+    let safe_k = select(k_positive, c.stiffness, one);
+    let sign = |x: T| select(x.simd_gt(zero), one, select(x.simd_lt(zero), -one, zero));
+    let (load, new_spring, slipped, damped) = match rule {
+        ClipRule::Total | ClipRule::Lammps => {
+            let load = -c.stiffness * trial - damping_load;
+            let slipped = load.simd_abs().simd_gt(c.limit);
+            let direction = if rule == ClipRule::Lammps {
+                -sign(rate)
+            } else {
+                sign(load)
+            };
+            let clipped = c.limit * direction;
+            let reset = select(k_positive, -(clipped + damping_load) / safe_k, trial);
+            (
+                select(slipped, clipped, load),
+                select(slipped, reset, trial),
+                slipped,
+                mask::<T>(true),
+            )
+        }
+        ClipRule::SpringOnly => {
+            let spring_load = -c.stiffness * trial;
+            let slipped = spring_load.simd_abs().simd_gt(c.limit);
+            let scale = c.limit / select(slipped, spring_load.simd_abs(), one);
+            let new_spring = select(slipped, trial * scale, trial);
+            let spring_load = -c.stiffness * new_spring;
+            (
+                select(slipped, spring_load, spring_load - damping_load),
+                new_spring,
+                slipped,
+                !slipped,
+            )
+        }
+    };
+    let energy = if energy {
+        let half_k = c.stiffness * lit(0.5);
+        let elastic = half_k * new_spring * new_spring;
+        SpringEnergy {
+            elastic,
+            dashpot: select(damped, c.damping * rate * rate * dt, zero),
+            slider: half_k * trial * trial - elastic,
+        }
+    } else {
+        SpringEnergy::zero()
+    };
+    ScalarSpringStep {
+        load,
+        spring: new_spring,
+        slipped,
+        energy,
+    }
+}

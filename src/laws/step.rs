@@ -1,0 +1,540 @@
+//! One step of one contact (models.md section 2): transport the histories, compute the rates,
+//! step the sliding, rolling and twisting laws, and return the loads on both bodies with the
+//! energy terms. One generic implementation for every [`Real`] type; a law that is off costs
+//! nothing (its branch is decided once per call from the model, never per lane).
+
+use crate::decompose::{decompose_pair_unchecked, decompose_wall_unchecked, Parts, Sphere, Wall};
+use crate::geometry::ContactGeometry;
+use crate::laws::model::{
+    DampingMode, Model, RollingDamping, RollingForm, RollingLaw, RollingStiffness, SlidingLaw,
+    TwistingLaw,
+};
+use crate::laws::presets::{Conventions, SlidingRate};
+use crate::laws::spring::{
+    scalar_spring, vector_spring, ClipRule, SpringCoefficients, SpringEnergy, Storage,
+};
+use crate::laws::transport::{transport, Frame};
+use crate::loads::{contact_loads_from_couple, ContactLoads};
+use crate::scalar::{lit, mask, select, select3, tangential, Real, Vec3};
+
+/// Per-call inputs of a contact step besides the bodies.
+#[derive(Clone, Copy, Debug)]
+pub struct StepInput<T: Real> {
+    /// Normal force magnitude `f_n` on the contact (compressive positive, >= 0): applied to the
+    /// bodies, and used by every limit unless `limit_force` is given.
+    pub normal_force: T,
+    /// Time step (> 0).
+    pub dt: T,
+    /// Normal stiffness `k_n`: needed by EPSD-derived rolling stiffness and LIGGGHTS' cdt.
+    pub normal_stiffness: T,
+    /// Contact radius `a` for Marshall twisting; `0` means `sqrt(delta R_eff)` (LAMMPS).
+    pub contact_radius: T,
+    /// Mass of body 1 (damping-ratio rolling damping only).
+    pub mass1: T,
+    /// Mass of body 2 (ignored for a wall).
+    pub mass2: T,
+    /// Moment of inertia of body 1 (damping-ratio rolling damping only).
+    pub inertia1: T,
+    /// Moment of inertia of body 2 (ignored for a wall).
+    pub inertia2: T,
+    /// Per-contact sliding stiffness replacing the model's `k_t` (e.g. Hertz-Mindlin `8 G a`).
+    pub sliding_stiffness: Option<T>,
+    /// Per-contact sliding damping replacing the model's `gamma_t`.
+    pub sliding_damping: Option<T>,
+    /// The force (>= 0) the limits use instead of `normal_force` (LAMMPS' `Fncrit`, an elastic
+    /// normal force, an adhesive offset...).
+    pub limit_force: Option<T>,
+    /// The setup pass of the preset's code: no increments (LIGGGHTS: one rolling increment),
+    /// and the state is not written (LAMMPS: its clip writes it).
+    pub setup: bool,
+}
+
+impl<T: Real> StepInput<T> {
+    /// An input with `f_n` and `dt` and every optional field empty.
+    pub fn new(normal_force: T, dt: T) -> Self {
+        StepInput {
+            normal_force,
+            dt,
+            normal_stiffness: T::zero(),
+            contact_radius: T::zero(),
+            mass1: T::zero(),
+            mass2: T::zero(),
+            inertia1: T::zero(),
+            inertia2: T::zero(),
+            sliding_stiffness: None,
+            sliding_damping: None,
+            limit_force: None,
+            setup: false,
+        }
+    }
+}
+
+/// The history a host stores per contact. All zero is a fresh contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactState<T: Real> {
+    /// Sliding spring: `xi_s` (length); YADE preset: the elastic shear force on body 1.
+    pub sliding_spring: Vec3<T>,
+    /// Rolling spring: `xi_r` (length) in the length form, `theta_r` (rad) in the angle form;
+    /// YADE and LIGGGHTS presets: the elastic rolling moment on body 1.
+    pub rolling_spring: Vec3<T>,
+    /// Twisting angle `theta_tw` (rad); YADE preset: the twisting moment on body 1 along the
+    /// previous normal.
+    pub twisting_angle: T,
+    /// YADE preset only: the part of its vector twisting moment off the previous normal (zero
+    /// for every other model).
+    pub twisting_offaxis: Vec3<T>,
+    /// Normal at the previous step; zero before the first step.
+    pub previous_normal: Vec3<T>,
+}
+
+impl<T: Real> Default for ContactState<T> {
+    fn default() -> Self {
+        ContactState {
+            sliding_spring: Vec3::zeros(),
+            rolling_spring: Vec3::zeros(),
+            twisting_angle: T::zero(),
+            twisting_offaxis: Vec3::zeros(),
+            previous_normal: Vec3::zeros(),
+        }
+    }
+}
+
+/// Energy terms of one step, split by spring (zero unless the model tracks energy).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepEnergy<T> {
+    /// Sliding spring: elastic energy after the step, dashpot and slider dissipation.
+    pub sliding: SpringEnergy<T>,
+    /// Rolling law (cdt reports its dissipation as slider, viscous as dashpot).
+    pub rolling: SpringEnergy<T>,
+    /// Twisting spring.
+    pub twisting: SpringEnergy<T>,
+    /// Change of elastic energy caused by the transport of the histories this step (zero to
+    /// rounding for `exact` and `project_rescale`).
+    pub transport: T,
+}
+
+/// The result of one contact step.
+#[derive(Clone, Copy, Debug)]
+pub struct StepOutput<T: Real> {
+    /// Forces and torques on both bodies (normal force included).
+    pub loads: ContactLoads<T>,
+    /// Sliding force `F_t` on body 1.
+    pub sliding_force: Vec3<T>,
+    /// Rolling moment on body 1 (body 2 gets its opposite).
+    pub rolling_moment: Vec3<T>,
+    /// Twisting moment on body 1, `M_tw n` (YADE: its vector moment); body 2 gets the opposite.
+    pub twisting_torque: Vec3<T>,
+    /// Energy terms.
+    pub energy: StepEnergy<T>,
+    /// Lanes where the sliding, rolling and twisting limits were reached.
+    pub slipped: [T::SimdBool; 3],
+}
+
+/// Body 2 of a contact.
+#[derive(Clone, Copy, Debug)]
+pub enum Partner<'a, T: Real> {
+    /// A sphere.
+    Sphere(&'a Sphere<T>),
+    /// A flat wall (its `normal` must be unit here).
+    Wall(&'a Wall<T>),
+}
+
+/// `(1/2) k (|after|^2 - |before|^2)` for a displacement, `(|after|^2 - |before|^2)/(2k)` for a
+/// stored load: the elastic energy the transport created.
+#[inline(always)]
+fn transport_energy<T: Real>(storage: Storage, k: T, before: &Vec3<T>, after: &Vec3<T>) -> T {
+    let diff = (after.norm_squared() - before.norm_squared()) * lit(0.5);
+    match storage {
+        Storage::Displacement => k * diff,
+        Storage::Load => {
+            let positive = k.simd_gt(T::zero());
+            select(positive, diff / select(positive, k, T::one()), T::zero())
+        }
+    }
+}
+
+/// Steps one contact without input checks (every [`Real`] type). `state` is updated in place
+/// unless the setup pass says otherwise. Inputs must satisfy what the checked entry points verify.
+#[inline(always)]
+pub fn contact_step_unchecked<T: Real>(
+    model: &Model,
+    body1: &Sphere<T>,
+    body2: Partner<'_, T>,
+    input: &StepInput<T>,
+    state: &mut ContactState<T>,
+) -> StepOutput<T> {
+    let conv: Conventions = model.preset.conventions();
+    let zero = T::zero();
+    let half = lit::<T>(0.5);
+    let sliding_on = model.sliding.law == SlidingLaw::Linear;
+    let rolling_on = model.rolling.law != RollingLaw::None;
+    let twisting_on = model.twisting.law != TwistingLaw::None;
+    let mut parts = Parts(0);
+    if sliding_on {
+        parts = parts | Parts::SLIDING;
+    }
+    if twisting_on {
+        parts = parts | Parts::TWISTING;
+    }
+    let (d, w2, radius2, is_wall) = match body2 {
+        Partner::Sphere(b2) => (
+            decompose_pair_unchecked(body1, b2, model.geometry, parts),
+            b2.angular_velocity,
+            b2.radius,
+            false,
+        ),
+        Partner::Wall(w) => (
+            decompose_wall_unchecked(body1, w, model.geometry, parts),
+            w.angular_velocity,
+            lit(f64::INFINITY),
+            true,
+        ),
+    };
+    let g: ContactGeometry<T> = d.geometry;
+    let n = g.normal;
+    let w1 = body1.angular_velocity;
+    let dt = input.dt;
+    let f_n = input.normal_force;
+    let f_limit = input.limit_force.unwrap_or(f_n);
+    let energy_on = model.track_energy;
+    let (increment_sliding, increment_rolling, store) = if input.setup {
+        (
+            conv.setup.sliding_increment,
+            conv.setup.rolling_increment,
+            conv.setup.store,
+        )
+    } else {
+        (true, true, true)
+    };
+
+    // 1. The transport frame; a fresh contact (zero previous normal) has no tumbling.
+    let has_old = state.previous_normal.norm_squared().simd_gt(half);
+    let old_normal = select3(has_old, &state.previous_normal, &n);
+    let frame = Frame {
+        old_normal,
+        new_normal: n,
+        spin_angle: (w1 + w2).dot(&n) * half * dt,
+        half_spin_old: (w1 + w2).dot(&old_normal) * half * dt,
+    };
+    let threshold = |k: T, limit: T| -> T {
+        if conv.lammps_rescale_threshold {
+            // LAMMPS: transport only when |xi . n| k > 1e-10 mu f_n.
+            let positive = k.simd_gt(zero);
+            select(
+                positive,
+                lit::<T>(1e-10) * limit / select(positive, k, T::one()),
+                zero,
+            )
+        } else {
+            zero
+        }
+    };
+    let mut transport_change = zero;
+    let mut new_state = *state;
+
+    // 2-5. Sliding.
+    let k_t = input
+        .sliding_stiffness
+        .unwrap_or_else(|| lit(model.sliding.stiffness));
+    let gamma_t = input
+        .sliding_damping
+        .unwrap_or_else(|| lit(model.sliding.damping));
+    let mut sliding_force = Vec3::zeros();
+    let mut sliding_energy = SpringEnergy::zero();
+    let mut slipped_s = mask::<T>(false);
+    if sliding_on {
+        let mut v_s = d.sliding_velocity;
+        let delta = g.overlap;
+        match conv.sliding_rate {
+            SlidingRate::Branches => {}
+            SlidingRate::Radii | SlidingRate::YadeScaled => {
+                let arm1 = body1.radius - g.branch1;
+                v_s += match body2 {
+                    Partner::Sphere(b2) => {
+                        w1.cross(&n) * arm1 + w2.cross(&n) * (b2.radius - g.branch2)
+                    }
+                    Partner::Wall(_) => w1.cross(&n) * arm1,
+                };
+                if let (SlidingRate::YadeScaled, Partner::Sphere(b2)) = (conv.sliding_rate, body2) {
+                    let dv_t = tangential(&(b2.velocity - body1.velocity), &n);
+                    v_s -= dv_t * (delta / g.distance);
+                }
+            }
+        }
+        let limit = lit::<T>(model.sliding.friction) * f_limit;
+        let spring = if increment_sliding {
+            transport(
+                model.sliding_transport,
+                &state.sliding_spring,
+                &frame,
+                threshold(k_t, limit),
+            )
+        } else {
+            state.sliding_spring
+        };
+        if energy_on {
+            transport_change +=
+                transport_energy(conv.sliding_storage, k_t, &state.sliding_spring, &spring);
+        }
+        let c = SpringCoefficients {
+            stiffness: k_t,
+            damping: gamma_t,
+            limit,
+        };
+        let r = vector_spring(
+            &spring,
+            &v_s,
+            dt,
+            &c,
+            conv.sliding_clip,
+            conv.sliding_storage,
+            increment_sliding,
+            energy_on,
+        );
+        sliding_force = r.load;
+        sliding_energy = r.energy;
+        slipped_s = r.slipped;
+        new_state.sliding_spring = r.spring;
+    }
+
+    // Rolling.
+    let r_r = g.rolling_radius;
+    let dw = w1 - w2;
+    let mut rolling_moment = Vec3::zeros();
+    let mut rolling_energy = SpringEnergy::zero();
+    let mut slipped_r = mask::<T>(false);
+    if rolling_on {
+        let p = &model.rolling;
+        let angle = p.form == RollingForm::Angle;
+        let dw_t = tangential(&dw, &n);
+        // The rate conjugate to the stored spring: (w1 - w2)_t or v_r = R_r (w1 - w2) x n.
+        let rate = if angle { dw_t } else { dw.cross(&n) * r_r };
+        let friction = lit::<T>(p.friction);
+        // mu_r (dimensionless) whatever the form.
+        let mu_r = if angle { friction / r_r } else { friction };
+        let limit = friction * f_limit;
+        let to_moment = |load: &Vec3<T>| -> Vec3<T> {
+            if angle {
+                *load
+            } else {
+                n.cross(load) * r_r
+            }
+        };
+        match p.law {
+            RollingLaw::None => {}
+            RollingLaw::Cdt => {
+                let (force, direction) = if conv.cdt_liggghts {
+                    // LIGGGHTS: elastic normal force k_n delta; w/|w| with the normal part
+                    // removed after normalising.
+                    let norm = dw.norm();
+                    let safe = select(norm.simd_gt(zero), norm, T::one());
+                    (
+                        input.normal_stiffness * g.overlap,
+                        tangential(&(dw / safe), &n),
+                    )
+                } else {
+                    let norm = dw_t.norm();
+                    let safe = select(norm.simd_gt(zero), norm, T::one());
+                    (f_limit, dw_t / safe)
+                };
+                let active = dw_t.norm().simd_gt(lit(p.rate_threshold));
+                // Moment magnitude: mu_r R_r f (length form), eta f (angle form).
+                let magnitude = if angle {
+                    friction * force
+                } else {
+                    friction * force * r_r
+                };
+                let moment = select3(active, &(direction * (-magnitude)), &Vec3::zeros());
+                rolling_moment = moment;
+                slipped_r = active;
+                if energy_on {
+                    rolling_energy.slider = -moment.dot(&dw_t) * dt;
+                }
+            }
+            RollingLaw::Viscous => {
+                let load = rate * (-lit::<T>(p.damping));
+                let magnitude = load.norm();
+                let over = magnitude.simd_gt(limit);
+                let scale = limit / select(over, magnitude, T::one());
+                let load = select3(over, &(load * scale), &load);
+                rolling_moment = to_moment(&load);
+                slipped_r = over;
+                if energy_on {
+                    rolling_energy.dashpot = -load.dot(&rate) * dt;
+                }
+            }
+            RollingLaw::Epsd => {
+                let r2 = r_r * r_r;
+                // Derived stiffness as k_theta, then in the law's form.
+                let derived = match p.stiffness_rule {
+                    RollingStiffness::Given => None,
+                    RollingStiffness::Epsd => {
+                        Some(lit::<T>(2.25) * input.normal_stiffness * mu_r * mu_r * r2)
+                    }
+                    RollingStiffness::Epsd2 => Some(k_t * r2),
+                    RollingStiffness::Epsd3 => Some(
+                        lit::<T>(p.stiffness_factor) * input.normal_stiffness * mu_r * mu_r * r2,
+                    ),
+                };
+                let k = match derived {
+                    None => lit(p.stiffness),
+                    Some(k_theta) if angle => k_theta,
+                    Some(k_theta) => k_theta / r2,
+                };
+                let gamma = match p.damping_rule {
+                    RollingDamping::Given => lit(p.damping),
+                    RollingDamping::Ratio => {
+                        let k_theta = if angle { k } else { k * r2 };
+                        let reduced1 = input.inertia1 + input.mass1 * body1.radius * body1.radius;
+                        let inv2 = if is_wall {
+                            zero
+                        } else {
+                            T::one() / (input.inertia2 + input.mass2 * radius2 * radius2)
+                        };
+                        let i_r = T::one() / (T::one() / reduced1 + inv2);
+                        let c_theta = lit::<T>(2.0 * p.damping) * (i_r * k_theta).simd_sqrt();
+                        if angle {
+                            c_theta
+                        } else {
+                            c_theta / r2
+                        }
+                    }
+                };
+                let spring = if increment_rolling {
+                    transport(
+                        model.rolling_transport,
+                        &state.rolling_spring,
+                        &frame,
+                        threshold(k, limit),
+                    )
+                } else {
+                    state.rolling_spring
+                };
+                if energy_on {
+                    transport_change +=
+                        transport_energy(conv.rolling_storage, k, &state.rolling_spring, &spring);
+                }
+                let c = SpringCoefficients {
+                    stiffness: k,
+                    damping: gamma,
+                    limit,
+                };
+                let rule = match p.damping_mode {
+                    DampingMode::Always => conv.rolling_clip,
+                    DampingMode::BelowLimit => ClipRule::SpringOnly,
+                };
+                let r = vector_spring(
+                    &spring,
+                    &rate,
+                    dt,
+                    &c,
+                    rule,
+                    conv.rolling_storage,
+                    increment_rolling,
+                    energy_on,
+                );
+                rolling_moment = to_moment(&r.load);
+                rolling_energy = r.energy;
+                slipped_r = r.slipped;
+                new_state.rolling_spring = r.spring;
+            }
+        }
+    }
+
+    // Twisting.
+    let mut twisting_torque = Vec3::zeros();
+    let mut twisting_energy = SpringEnergy::zero();
+    let mut slipped_t = mask::<T>(false);
+    if twisting_on {
+        let t = &model.twisting;
+        let c = match t.law {
+            TwistingLaw::Marshall => {
+                let r_eff = match body2 {
+                    Partner::Sphere(b2) => body1.radius * b2.radius / (body1.radius + b2.radius),
+                    Partner::Wall(_) => body1.radius,
+                };
+                let default_a = (g.overlap.simd_max(zero) * r_eff).simd_sqrt();
+                let a = select(
+                    input.contact_radius.simd_gt(zero),
+                    input.contact_radius,
+                    default_a,
+                );
+                let a2h = a * a * half;
+                SpringCoefficients {
+                    stiffness: k_t * a2h,
+                    damping: gamma_t * a2h,
+                    limit: lit::<T>(2.0 / 3.0 * model.sliding.friction) * a * f_limit,
+                }
+            }
+            _ => SpringCoefficients {
+                stiffness: lit(t.stiffness),
+                damping: lit(t.damping),
+                limit: lit::<T>(t.friction) * f_limit,
+            },
+        };
+        if conv.twist_vector {
+            // YADE: a vector twisting moment, transported like the shear force.
+            let stored = old_normal * state.twisting_angle + state.twisting_offaxis;
+            let moved = if increment_sliding {
+                transport(model.sliding_transport, &stored, &frame, zero)
+            } else {
+                stored
+            };
+            if energy_on {
+                transport_change += transport_energy(Storage::Load, c.stiffness, &stored, &moved);
+            }
+            let rate = n * d.twisting_rate;
+            let r = vector_spring(
+                &moved,
+                &rate,
+                dt,
+                &c,
+                ClipRule::Total,
+                Storage::Load,
+                increment_sliding,
+                energy_on,
+            );
+            twisting_torque = r.load;
+            twisting_energy = r.energy;
+            slipped_t = r.slipped;
+            let along = r.spring.dot(&n);
+            new_state.twisting_angle = along;
+            new_state.twisting_offaxis = r.spring - n * along;
+        } else {
+            let r = scalar_spring(
+                state.twisting_angle,
+                d.twisting_rate,
+                dt,
+                &c,
+                conv.twisting_clip,
+                increment_sliding,
+                energy_on,
+            );
+            twisting_torque = n * r.load;
+            twisting_energy = r.energy;
+            slipped_t = r.slipped;
+            new_state.twisting_angle = r.spring;
+        }
+    }
+
+    // 6. Loads and the new state.
+    let couple = rolling_moment + twisting_torque;
+    let loads = contact_loads_from_couple(&g, f_n, &sliding_force, &couple, is_wall);
+    if store {
+        new_state.previous_normal = n;
+        *state = new_state;
+    }
+    StepOutput {
+        loads,
+        sliding_force,
+        rolling_moment,
+        twisting_torque,
+        energy: StepEnergy {
+            sliding: sliding_energy,
+            rolling: rolling_energy,
+            twisting: twisting_energy,
+            transport: transport_change,
+        },
+        slipped: [slipped_s, slipped_r, slipped_t],
+    }
+}

@@ -1,0 +1,79 @@
+//! History transport (models.md section 1): carries a tangential history vector (a spring) from
+//! the previous contact frame to the current one. Written once for every [`Real`] type.
+
+use crate::laws::model::Transport;
+use crate::scalar::{lit, select3, tangential, Real, Vec3};
+
+/// What a transport needs to know about the step.
+pub struct Frame<T: Real> {
+    /// Normal of the previous step (unit; equal to `new_normal` on a contact's first step).
+    pub old_normal: Vec3<T>,
+    /// Current normal (unit).
+    pub new_normal: Vec3<T>,
+    /// Spin angle of the pair frame about `new_normal` this step: `dt w_rbs` (exact scheme).
+    pub spin_angle: T,
+    /// `dt (w1 + w2) . n_old / 2` (first-order scheme).
+    pub half_spin_old: T,
+}
+
+/// Rotates a tangential vector `u` about the unit normal `n` by `angle` with the Cayley
+/// (rational) rotation: orthogonal, so lengths are kept exactly; the turned angle is
+/// `2 atan(angle/2)`, off by `angle^3/12` (3e-11 at 1e-3 rad per step).
+#[inline(always)]
+fn spin_about<T: Real>(u: &Vec3<T>, n: &Vec3<T>, angle: T) -> Vec3<T> {
+    let t = angle * lit(0.5);
+    let t2 = t * t;
+    let inv = T::one() / (T::one() + t2);
+    let cos = (T::one() - t2) * inv;
+    let sin = (t + t) * inv;
+    u * cos + n.cross(u) * sin
+}
+
+/// Transports `u` with `scheme`. `rescale_threshold` is LAMMPS' condition for project-rescale:
+/// the vector is transported only when `|u . n| > rescale_threshold` (0 transports always).
+#[inline(always)]
+pub fn transport<T: Real>(
+    scheme: Transport,
+    u: &Vec3<T>,
+    frame: &Frame<T>,
+    rescale_threshold: T,
+) -> Vec3<T> {
+    let a = &frame.old_normal;
+    let b = &frame.new_normal;
+    match scheme {
+        Transport::Exact => {
+            // Minimal rotation a -> b: R u = u + c x u + c x (c x u)/(1 + a.b), c = a x b.
+            let c = a.cross(b);
+            let cos = a.dot(b);
+            let one_plus = T::one() + cos;
+            // A normal that flipped in one step (1 + a.b ~ 0) has no minimal rotation; fall
+            // back to projection, which is what any scheme can do there.
+            let ok = one_plus.simd_gt(lit(1e-12));
+            let safe = crate::scalar::select(ok, one_plus, T::one());
+            let cu = c.cross(u);
+            let rotated = u + cu + c.cross(&cu) / safe;
+            let swung = select3(ok, &rotated, &tangential(u, b));
+            let spun = spin_about(&swung, b, frame.spin_angle);
+            // Remove the rounding drift out of the tangent plane (changes |u| by O(eps^2)).
+            tangential(&spun, b)
+        }
+        Transport::ProjectRescale => {
+            let normal_part = u.dot(b);
+            let projected = u - b * normal_part;
+            let old_len2 = u.norm_squared();
+            let new_len2 = projected.norm_squared();
+            let act =
+                normal_part.simd_abs().simd_gt(rescale_threshold) & new_len2.simd_gt(T::zero());
+            let scale = (old_len2 / crate::scalar::select(act, new_len2, T::one())).simd_sqrt();
+            select3(act, &(projected * scale), u)
+        }
+        Transport::FirstOrder => {
+            let axis = a.cross(b);
+            let v = u - u.cross(&axis);
+            let twist = a * frame.half_spin_old;
+            v - v.cross(&twist)
+        }
+        Transport::Project => tangential(u, b),
+        Transport::None => *u,
+    }
+}
