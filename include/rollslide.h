@@ -27,6 +27,24 @@
 // (LAMMPS' `Fncrit`, an elastic normal force...).
 #define RSL_INPUT_LIMIT_FORCE 8
 
+// Input flag: use `rolling_stiffness` (k_r or k_theta by the model's form) for this contact.
+#define RSL_INPUT_ROLLING_STIFFNESS 16
+
+// Input flag: use `rolling_damping` for this contact.
+#define RSL_INPUT_ROLLING_DAMPING 32
+
+// Input flag: use `rolling_friction` (mu_r, or eta in the angle form) for this contact.
+#define RSL_INPUT_ROLLING_FRICTION 64
+
+// Input flag: use `twisting_stiffness` for this contact (sds).
+#define RSL_INPUT_TWISTING_STIFFNESS 128
+
+// Input flag: use `twisting_damping` for this contact (sds).
+#define RSL_INPUT_TWISTING_DAMPING 256
+
+// Input flag: use `twisting_friction` (mu_tw, a length) for this contact (sds).
+#define RSL_INPUT_TWISTING_FRICTION 512
+
 // Slip flag: the sliding limit was reached this step.
 #define RSL_SLIP_SLIDING 1
 
@@ -277,6 +295,18 @@ typedef struct rsl_contact_input {
   double sliding_damping;
   // Force used by the limits, with `RSL_INPUT_LIMIT_FORCE`.
   double limit_force;
+  // Per-contact rolling stiffness, with `RSL_INPUT_ROLLING_STIFFNESS`.
+  double rolling_stiffness;
+  // Per-contact rolling damping, with `RSL_INPUT_ROLLING_DAMPING`.
+  double rolling_damping;
+  // Per-contact rolling limit coefficient, with `RSL_INPUT_ROLLING_FRICTION` (+INFINITY: no limit).
+  double rolling_friction;
+  // Per-contact twisting stiffness, with `RSL_INPUT_TWISTING_STIFFNESS`.
+  double twisting_stiffness;
+  // Per-contact twisting damping, with `RSL_INPUT_TWISTING_DAMPING`.
+  double twisting_damping;
+  // Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no limit).
+  double twisting_friction;
   // OR of `RSL_INPUT_*`.
   uint32_t flags;
   // Padding; keep 0.

@@ -21,6 +21,18 @@ pub const RSL_INPUT_SETUP: u32 = 4;
 /// Input flag: the limits use `rsl_contact_input.limit_force` (>= 0) instead of `normal_force`
 /// (LAMMPS' `Fncrit`, an elastic normal force...).
 pub const RSL_INPUT_LIMIT_FORCE: u32 = 8;
+/// Input flag: use `rolling_stiffness` (k_r or k_theta by the model's form) for this contact.
+pub const RSL_INPUT_ROLLING_STIFFNESS: u32 = 16;
+/// Input flag: use `rolling_damping` for this contact.
+pub const RSL_INPUT_ROLLING_DAMPING: u32 = 32;
+/// Input flag: use `rolling_friction` (mu_r, or eta in the angle form) for this contact.
+pub const RSL_INPUT_ROLLING_FRICTION: u32 = 64;
+/// Input flag: use `twisting_stiffness` for this contact (sds).
+pub const RSL_INPUT_TWISTING_STIFFNESS: u32 = 128;
+/// Input flag: use `twisting_damping` for this contact (sds).
+pub const RSL_INPUT_TWISTING_DAMPING: u32 = 256;
+/// Input flag: use `twisting_friction` (mu_tw, a length) for this contact (sds).
+pub const RSL_INPUT_TWISTING_FRICTION: u32 = 512;
 
 /// Slip flag: the sliding limit was reached this step.
 pub const RSL_SLIP_SLIDING: u32 = 1;
@@ -81,6 +93,18 @@ pub struct rsl_contact_input {
     pub sliding_damping: f64,
     /// Force used by the limits, with `RSL_INPUT_LIMIT_FORCE`.
     pub limit_force: f64,
+    /// Per-contact rolling stiffness, with `RSL_INPUT_ROLLING_STIFFNESS`.
+    pub rolling_stiffness: f64,
+    /// Per-contact rolling damping, with `RSL_INPUT_ROLLING_DAMPING`.
+    pub rolling_damping: f64,
+    /// Per-contact rolling limit coefficient, with `RSL_INPUT_ROLLING_FRICTION` (+INFINITY: no limit).
+    pub rolling_friction: f64,
+    /// Per-contact twisting stiffness, with `RSL_INPUT_TWISTING_STIFFNESS`.
+    pub twisting_stiffness: f64,
+    /// Per-contact twisting damping, with `RSL_INPUT_TWISTING_DAMPING`.
+    pub twisting_damping: f64,
+    /// Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no limit).
+    pub twisting_friction: f64,
     /// OR of `RSL_INPUT_*`.
     pub flags: u32,
     /// Padding; keep 0.
@@ -155,7 +179,13 @@ fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
     let known = RSL_INPUT_SLIDING_STIFFNESS
         | RSL_INPUT_SLIDING_DAMPING
         | RSL_INPUT_SETUP
-        | RSL_INPUT_LIMIT_FORCE;
+        | RSL_INPUT_LIMIT_FORCE
+        | RSL_INPUT_ROLLING_STIFFNESS
+        | RSL_INPUT_ROLLING_DAMPING
+        | RSL_INPUT_ROLLING_FRICTION
+        | RSL_INPUT_TWISTING_STIFFNESS
+        | RSL_INPUT_TWISTING_DAMPING
+        | RSL_INPUT_TWISTING_FRICTION;
     if i.flags & !known != 0 {
         return Err(Error::InvalidArgument(format!(
             "input flags 0x{:x} has unknown bits",
@@ -175,6 +205,12 @@ fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
         sliding_stiffness: flag(RSL_INPUT_SLIDING_STIFFNESS).then_some(i.sliding_stiffness),
         sliding_damping: flag(RSL_INPUT_SLIDING_DAMPING).then_some(i.sliding_damping),
         limit_force: flag(RSL_INPUT_LIMIT_FORCE).then_some(i.limit_force),
+        rolling_stiffness: flag(RSL_INPUT_ROLLING_STIFFNESS).then_some(i.rolling_stiffness),
+        rolling_damping: flag(RSL_INPUT_ROLLING_DAMPING).then_some(i.rolling_damping),
+        rolling_friction: flag(RSL_INPUT_ROLLING_FRICTION).then_some(i.rolling_friction),
+        twisting_stiffness: flag(RSL_INPUT_TWISTING_STIFFNESS).then_some(i.twisting_stiffness),
+        twisting_damping: flag(RSL_INPUT_TWISTING_DAMPING).then_some(i.twisting_damping),
+        twisting_friction: flag(RSL_INPUT_TWISTING_FRICTION).then_some(i.twisting_friction),
         setup: flag(RSL_INPUT_SETUP),
     })
 }

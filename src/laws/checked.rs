@@ -57,6 +57,31 @@ fn check_input<T: RealField + Copy>(
     if let Some(f) = input.limit_force {
         finite_nonneg(f, "limit_force")?;
     }
+    for (value, what) in [
+        (input.rolling_stiffness, "rolling_stiffness"),
+        (input.rolling_damping, "rolling_damping"),
+        (input.twisting_stiffness, "twisting_stiffness"),
+        (input.twisting_damping, "twisting_damping"),
+    ] {
+        if let Some(x) = value {
+            finite_nonneg(x, what)?;
+        }
+    }
+    for (value, what) in [
+        (input.rolling_friction, "rolling_friction"),
+        (input.twisting_friction, "twisting_friction"),
+    ] {
+        if let Some(x) = value {
+            if matches!(
+                x.partial_cmp(&T::zero()),
+                None | Some(std::cmp::Ordering::Less)
+            ) {
+                return Err(Error::InvalidArgument(format!(
+                    "{what} must be >= 0 (or +inf for no limit)"
+                )));
+            }
+        }
+    }
     let r = &model.rolling;
     let needs_kn = (r.law == RollingLaw::Epsd
         && matches!(

@@ -135,22 +135,24 @@ pub fn vector_spring<T: Real>(
             let magnitude = load.norm();
             let slipped = magnitude.simd_gt(c.limit);
             let scale = c.limit / select(slipped, magnitude, T::one());
-            let mut clipped = load * scale;
-            let mut damped = mask::<T>(true);
-            if rule == ClipRule::Lammps {
-                // LAMMPS: a slipping spring of zero length gives no load at all.
-                let empty = slipped & trial.norm_squared().simd_le(zero);
-                clipped = select3(empty, &Vec3::zeros(), &clipped);
-                damped = !empty;
-            }
+            let clipped = load * scale;
             let elastic_reset = clipped + damping_load;
             let spring_reset = match storage {
                 Storage::Displacement => select3(k_positive, &(elastic_reset / (-safe_k)), &trial),
                 Storage::Load => elastic_reset,
             };
-            let new_spring = select3(slipped, &spring_reset, &trial);
-            let new_elastic = select3(slipped, &elastic_reset, &elastic_trial);
-            let load = select3(slipped, &clipped, &load);
+            let mut new_spring = select3(slipped, &spring_reset, &trial);
+            let mut new_elastic = select3(slipped, &elastic_reset, &elastic_trial);
+            let mut load = select3(slipped, &clipped, &load);
+            let mut damped = mask::<T>(true);
+            if rule == ClipRule::Lammps {
+                // LAMMPS: a slipping spring of zero length gives no load at all and stays empty.
+                let empty = slipped & trial.norm_squared().simd_le(zero);
+                load = select3(empty, &Vec3::zeros(), &load);
+                new_spring = select3(empty, &trial, &new_spring);
+                new_elastic = select3(empty, &elastic_trial, &new_elastic);
+                damped = !empty;
+            }
             (load, new_spring, new_elastic, slipped, damped)
         }
         ClipRule::SpringOnly => {

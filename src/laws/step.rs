@@ -41,6 +41,20 @@ pub struct StepInput<T: Real> {
     pub sliding_stiffness: Option<T>,
     /// Per-contact sliding damping replacing the model's `gamma_t`.
     pub sliding_damping: Option<T>,
+    /// Per-contact rolling stiffness (`k_r` or `k_theta` by the form) replacing the model's
+    /// (and any derived EPSD rule).
+    pub rolling_stiffness: Option<T>,
+    /// Per-contact rolling damping (`gamma_r` or `c_theta`, or the ratio with `Ratio`).
+    pub rolling_damping: Option<T>,
+    /// Per-contact rolling limit coefficient (`mu_r`, or `eta` in the angle form), e.g. YADE's
+    /// `min(etaRoll_i R_i)` or LIGGGHTS' `mu_r R_eff` in polydisperse scenes.
+    pub rolling_friction: Option<T>,
+    /// Per-contact twisting stiffness (`sds`).
+    pub twisting_stiffness: Option<T>,
+    /// Per-contact twisting damping (`sds`).
+    pub twisting_damping: Option<T>,
+    /// Per-contact twisting limit length `mu_tw` (`sds`).
+    pub twisting_friction: Option<T>,
     /// The force (>= 0) the limits use instead of `normal_force` (LAMMPS' `Fncrit`, an elastic
     /// normal force, an adhesive offset...).
     pub limit_force: Option<T>,
@@ -63,6 +77,12 @@ impl<T: Real> StepInput<T> {
             inertia2: T::zero(),
             sliding_stiffness: None,
             sliding_damping: None,
+            rolling_stiffness: None,
+            rolling_damping: None,
+            rolling_friction: None,
+            twisting_stiffness: None,
+            twisting_damping: None,
+            twisting_friction: None,
             limit_force: None,
             setup: false,
         }
@@ -309,7 +329,7 @@ pub fn contact_step_unchecked<T: Real>(
         let dw_t = tangential(&dw, &n);
         // The rate conjugate to the stored spring: (w1 - w2)_t or v_r = R_r (w1 - w2) x n.
         let rate = if angle { dw_t } else { dw.cross(&n) * r_r };
-        let friction = lit::<T>(p.friction);
+        let friction = input.rolling_friction.unwrap_or_else(|| lit(p.friction));
         // mu_r (dimensionless) whatever the form.
         let mu_r = if angle { friction / r_r } else { friction };
         let limit = friction * f_limit;
@@ -352,7 +372,8 @@ pub fn contact_step_unchecked<T: Real>(
                 }
             }
             RollingLaw::Viscous => {
-                let load = rate * (-lit::<T>(p.damping));
+                let gamma = input.rolling_damping.unwrap_or_else(|| lit(p.damping));
+                let load = rate * (-gamma);
                 let magnitude = load.norm();
                 let over = magnitude.simd_gt(limit);
                 let scale = limit / select(over, magnitude, T::one());
@@ -376,13 +397,15 @@ pub fn contact_step_unchecked<T: Real>(
                         lit::<T>(p.stiffness_factor) * input.normal_stiffness * mu_r * mu_r * r2,
                     ),
                 };
-                let k = match derived {
-                    None => lit(p.stiffness),
-                    Some(k_theta) if angle => k_theta,
-                    Some(k_theta) => k_theta / r2,
+                let k = match (input.rolling_stiffness, derived) {
+                    (Some(k), _) => k,
+                    (None, None) => lit(p.stiffness),
+                    (None, Some(k_theta)) if angle => k_theta,
+                    (None, Some(k_theta)) => k_theta / r2,
                 };
+                let damping = input.rolling_damping.unwrap_or_else(|| lit(p.damping));
                 let gamma = match p.damping_rule {
-                    RollingDamping::Given => lit(p.damping),
+                    RollingDamping::Given => damping,
                     RollingDamping::Ratio => {
                         let k_theta = if angle { k } else { k * r2 };
                         let reduced1 = input.inertia1 + input.mass1 * body1.radius * body1.radius;
@@ -392,7 +415,7 @@ pub fn contact_step_unchecked<T: Real>(
                             T::one() / (input.inertia2 + input.mass2 * radius2 * radius2)
                         };
                         let i_r = T::one() / (T::one() / reduced1 + inv2);
-                        let c_theta = lit::<T>(2.0 * p.damping) * (i_r * k_theta).simd_sqrt();
+                        let c_theta = damping * lit(2.0) * (i_r * k_theta).simd_sqrt();
                         if angle {
                             c_theta
                         } else {
@@ -467,9 +490,9 @@ pub fn contact_step_unchecked<T: Real>(
                 }
             }
             _ => SpringCoefficients {
-                stiffness: lit(t.stiffness),
-                damping: lit(t.damping),
-                limit: lit::<T>(t.friction) * f_limit,
+                stiffness: input.twisting_stiffness.unwrap_or_else(|| lit(t.stiffness)),
+                damping: input.twisting_damping.unwrap_or_else(|| lit(t.damping)),
+                limit: input.twisting_friction.unwrap_or_else(|| lit(t.friction)) * f_limit,
             },
         };
         if conv.twist_vector {
