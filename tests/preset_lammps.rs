@@ -3,7 +3,7 @@
 //! with Debian's `lmp`), fed through the library with the inputs LAMMPS saw.
 //!
 //! The host (this test) owns the normal force: it passes LAMMPS' signed normal force (elastic
-//! + damping) as `normal_force` (clamped at 0, the rest added back) and `Fncrit = |F_n|` as the
+//! plus damping) as `normal_force` (clamped at 0, the rest added back) and `Fncrit = |F_n|` as the
 //! limit force, and the per-contact tangential damping `xgammat * eta_n * damp` LAMMPS uses.
 //! Tolerance: both codes evaluate the same formulas in double, in a different order, so each
 //! load differs by a few ulps of the loads the case handles (the largest load or `Fncrit` of
