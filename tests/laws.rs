@@ -3,6 +3,9 @@
 //! of the applied loads, the per-step energy balance, length versus angle parameterisations,
 //! cdt, viscous and Marshall coefficients, and the time-step helpers.
 
+// Tests configure a model one law at a time, the way a host does through the C setters.
+#![allow(clippy::field_reassign_with_default)]
+
 mod common;
 use common::*;
 use nalgebra::{Rotation3, Unit, Vector3};
