@@ -73,6 +73,7 @@ fn run(mut cmd: Command, what: &str) -> Result<String, String> {
 fn build_c_program(sources: &[PathBuf], exe: &Path) -> Result<(), String> {
     let mut cmd = compiler(false).to_command();
     cmd.args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .arg(format!("-DRSL_SOURCE_DIR=\"{}\"", root().display()))
         .arg("-I")
         .arg(root().join("include"))
         .arg("-I")
@@ -128,12 +129,17 @@ fn main() {
                 "c_tests --list",
             )
             .expect("listing the C tests");
+            let show = args.nocapture;
             for name in list.lines().map(str::to_owned) {
                 let exe = exe.clone();
                 trials.push(Trial::test(format!("c::{name}"), move || {
                     let mut c = Command::new(&exe);
                     c.arg(&name);
-                    run(c, &name).map(|_| ()).map_err(Failed::from)
+                    let printed = run(c, &name).map_err(Failed::from)?;
+                    if show {
+                        print!("{printed}");
+                    }
+                    Ok(())
                 }));
             }
         }
