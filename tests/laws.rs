@@ -703,3 +703,65 @@ fn bad_step_input_is_refused_and_state_untouched() {
     ));
     assert_eq!(state, kept);
 }
+
+/// Corner cases of the spring-dashpot-slider (models.md section 2, step 5): an empty spring at
+/// rest gives no load and no slip; a zero limit (f_n = 0) gives a zero load whatever the
+/// motion; a zero stiffness never divides by zero (the spring keeps its trial value).
+#[test]
+fn spring_corner_cases_are_defined() {
+    use rollslide::laws::spring::{vector_spring, ClipRule, SpringCoefficients, Storage};
+    let zero = Vector3::<f64>::zeros();
+    let c = SpringCoefficients {
+        stiffness: 10.0,
+        damping: 1.0,
+        limit: 2.0,
+    };
+    for rule in [ClipRule::Total, ClipRule::Lammps, ClipRule::SpringOnly] {
+        for storage in [Storage::Displacement, Storage::Load] {
+            let r = vector_spring(&zero, &zero, 1e-3, &c, rule, storage, true, true);
+            assert_eq!(
+                (r.load, r.spring, r.slipped),
+                (zero, zero, false),
+                "{rule:?} {storage:?} at rest"
+            );
+            assert_eq!(
+                (r.energy.elastic, r.energy.dashpot, r.energy.slider),
+                (0.0, 0.0, 0.0)
+            );
+            // Zero limit: the load is zero (LIGGGHTS' rule: the spring part is zero).
+            let no_limit = SpringCoefficients { limit: 0.0, ..c };
+            let r = vector_spring(
+                &v(1e-3, 0.0, 0.0),
+                &v(0.0, 2.0, 0.0),
+                1e-3,
+                &no_limit,
+                rule,
+                storage,
+                true,
+                true,
+            );
+            assert!(r.slipped);
+            if rule != ClipRule::SpringOnly {
+                assert_eq!(r.load, zero, "{rule:?}: zero limit, zero load");
+            }
+            assert!(r.spring.iter().all(|x| x.is_finite()));
+            // Zero stiffness: the dashpot alone, clipped; no division by zero.
+            let soft = SpringCoefficients {
+                stiffness: 0.0,
+                ..c
+            };
+            let r = vector_spring(
+                &zero,
+                &v(0.0, 5.0, 0.0),
+                1e-3,
+                &soft,
+                rule,
+                storage,
+                true,
+                true,
+            );
+            assert!(r.load.iter().chain(r.spring.iter()).all(|x| x.is_finite()));
+            assert!(r.load.norm() <= 2.0 + 1e-15 || rule == ClipRule::SpringOnly);
+        }
+    }
+}
