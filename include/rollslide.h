@@ -13,6 +13,49 @@
 #include <stdint.h>
 #include <stddef.h>
 
+// Slip bit of the sliding limit (same value as `RSL_SLIP_SLIDING`).
+#define SLIP_SLIDING 1
+
+// Slip bit of the rolling limit.
+#define SLIP_ROLLING 2
+
+// Slip bit of the twisting limit.
+#define SLIP_TWISTING 4
+
+// The most lanes any [`Lanes`] type has (sizes the per-chunk scratch arrays).
+#define MAX_LANES 8
+
+// Precision: everything in double (default).
+#define RSL_PRECISION_F64 0
+
+// Precision: mixed single. Geometry (branch vector, distance, overlap, branch lengths) in
+// double from the double positions; rates, history transport and update, and loads in single;
+// histories stored in the caller's double state. Loses `v_r` to cancellation when
+// `|w| >> |w1 - w2|` (kinematics.md section 7) and carries single rounding (~6e-8 relative)
+// into the histories every step.
+#define RSL_PRECISION_F32 1
+
+// SIMD: the fastest level the CPU supports (double: AVX-512, then AVX2+FMA, then scalar;
+// single: AVX2+FMA, then scalar).
+#define RSL_SIMD_AUTO 0
+
+// SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).
+#define RSL_SIMD_SCALAR 1
+
+// SIMD: AVX2 + FMA (8 double lanes in two ymm registers, or 8 single lanes);
+// `RSL_ERR_INVALID_ARGUMENT` if absent.
+#define RSL_SIMD_AVX2 2
+
+// SIMD: AVX-512 F/VL/DQ/BW (8 double or 8 single lanes: 16 single lanes measured 1.6x
+// slower); `RSL_ERR_INVALID_ARGUMENT` if absent.
+#define RSL_SIMD_AVX512 3
+
+// Batch flag: do not use a scene-specialised kernel (take the law decisions at run time).
+#define RSL_BATCH_GENERIC 1
+
+// Value of `rsl_batch_report.first_failed` when no contact failed.
+#define RSL_BATCH_NONE UINT64_MAX
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 
@@ -220,6 +263,35 @@
 // Patch version of the header.
 #define RSL_VERSION_PATCH 0
 
+// The specialised configurations (the const parameter `S` of the kernels is `Scene as u8`).
+enum Scene
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint8_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Any model: decisions at run time.
+  Generic = 0,
+  // Objective preset, exact transport: linear sliding + EPSD rolling (given k, gamma, damping
+  // always, length form) + sds twisting, no energy bookkeeping.
+  FullExact = 1,
+  // LAMMPS_2021 preset (project-rescale transport): linear history + rolling sds + twisting
+  // sds, the hand-written C baseline's physics.
+  FullLammps = 2,
+  // Objective, exact transport, linear sliding only.
+  SlidingExact = 3,
+  // Objective, exact transport, linear sliding + EPSD rolling, no twisting.
+  SlidingRollingExact = 4,
+  // LAMMPS_2021 preset, linear history sliding only.
+  SlidingLammps = 5,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum Scene Scene;
+#else
+typedef uint8_t Scene;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
 // threads at once as long as no thread calls a setter meanwhile.
@@ -234,6 +306,30 @@ typedef struct rsl_vec3 {
   // z component.
   double z;
 } rsl_vec3;
+
+// Kinematic state of one sphere.
+typedef struct rsl_sphere {
+  // Centre position.
+  struct rsl_vec3 position;
+  // Velocity of the centre.
+  struct rsl_vec3 velocity;
+  // Angular velocity (rad per unit time).
+  struct rsl_vec3 angular_velocity;
+  // Radius (> 0).
+  double radius;
+} rsl_sphere;
+
+// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
+typedef struct rsl_batch_options {
+  // `RSL_PRECISION_F64` or `RSL_PRECISION_F32`.
+  uint32_t precision;
+  // `RSL_SIMD_AUTO`, `RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2` or `RSL_SIMD_AVX512`.
+  uint32_t simd;
+  // OR of `RSL_BATCH_*` flags.
+  uint32_t flags;
+  // Padding; keep 0.
+  uint32_t reserved;
+} rsl_batch_options;
 
 // The history a host stores for each contact: plain data, copy it freely. All bytes zero
 // (`rsl_contact_state_init` or memset) is a fresh contact.
@@ -256,17 +352,85 @@ typedef struct rsl_contact_state {
   uint32_t reserved;
 } rsl_contact_state;
 
-// Kinematic state of one sphere.
-typedef struct rsl_sphere {
-  // Centre position.
-  struct rsl_vec3 position;
-  // Velocity of the centre.
-  struct rsl_vec3 velocity;
-  // Angular velocity (rad per unit time).
-  struct rsl_vec3 angular_velocity;
-  // Radius (> 0).
-  double radius;
-} rsl_sphere;
+// What a batch call did. Written whenever the pointer is non-NULL and valid, also on failure:
+// a call-level error (NULL array, invalid model or time step...) processes nothing
+// (`processed = failed = 0`).
+typedef struct rsl_batch_report {
+  // Contacts processed (state and outputs written).
+  uint64_t processed;
+  // Contacts skipped as invalid (state and outputs untouched).
+  uint64_t failed;
+  // Index of the first skipped contact, `RSL_BATCH_NONE` if none.
+  uint64_t first_failed;
+  // Status of the first skipped contact (what `rsl_contact_step` / `rsl_decompose` returns
+  // for it); `RSL_OK` if none.
+  int32_t first_status;
+  // The SIMD level that ran (`RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`, `RSL_SIMD_AVX512`).
+  uint32_t simd;
+  // The scene kernel that ran (0: generic; see `rsl_batch_scene`).
+  uint32_t scene;
+  // Padding.
+  uint32_t reserved;
+} rsl_batch_report;
+
+// Loads of one contact (contact-major step): body 2 receives `-force1` and `torque2`.
+typedef struct rsl_batch_loads {
+  // Force on body 1.
+  struct rsl_vec3 force1;
+  // Torque on body 1 about its centre.
+  struct rsl_vec3 torque1;
+  // Torque on body 2 about its centre.
+  struct rsl_vec3 torque2;
+} rsl_batch_loads;
+
+// Options of a decomposition. Pass NULL for the defaults (midplane, exact rolling radius,
+// every part), or start from `rsl_decompose_options_default()`.
+typedef struct rsl_decompose_options {
+  // `RSL_BRANCH_MIDPLANE` or `RSL_BRANCH_RADII`.
+  int32_t branch_rule;
+  // `RSL_ROLLING_RADIUS_EXACT` or `RSL_ROLLING_RADIUS_EFFECTIVE`.
+  int32_t rolling_radius_rule;
+  // OR of `RSL_PART_*` bits: the parts to compute (the geometry is always computed); parts
+  // not asked for are not computed and are reported as 0.
+  uint32_t parts;
+} rsl_decompose_options;
+
+// The decomposition of one contact (body 1 relative to body 2, `normal` from 1 to 2). Fields
+// of parts not asked for are 0. For a wall, `distance` and `branch2` are +infinity.
+typedef struct rsl_decomposition {
+  // Unit normal from body 1 to body 2 (into the wall).
+  struct rsl_vec3 normal;
+  // Centre distance `d`.
+  double distance;
+  // Overlap `delta = R1 + R2 - d` (> 0 in contact).
+  double overlap;
+  // Branch length `l1` (centre of body 1 to contact point).
+  double branch1;
+  // Branch length `l2` (centre of body 2 to contact point).
+  double branch2;
+  // Rolling radius `R_r`.
+  double rolling_radius;
+  // Contact point `r1 + l1 n`.
+  struct rsl_vec3 contact_point;
+  // Normal rate `ddot = n . (v2 - v1)`; overlap rate is `-ddot`. Part `RSL_PART_NORMAL_RATE`.
+  double normal_rate;
+  // Sliding velocity of body 1 relative to body 2 (tangential). Part `RSL_PART_SLIDING`.
+  struct rsl_vec3 sliding_velocity;
+  // Rolling velocity `R_r (w1 - w2) x n` (tangential). Part `RSL_PART_ROLLING`.
+  struct rsl_vec3 rolling_velocity;
+  // Twisting rate `(w1 - w2) . n`. Part `RSL_PART_TWISTING`.
+  double twisting_rate;
+  // Contact velocity `d r_c/dt`. Part `RSL_PART_RIGID`.
+  struct rsl_vec3 contact_velocity;
+  // Tumbling `w_rbr = n x (v2 - v1)/d` (wall: its tangential angular velocity). Part `RSL_PART_RIGID`.
+  struct rsl_vec3 tumbling;
+  // Frame spin `w_rbs = (w1 + w2) . n / 2`. Part `RSL_PART_RIGID`.
+  double frame_spin;
+  // Objective velocity `s1` of body 1. Part `RSL_PART_OBJECTIVE`.
+  struct rsl_vec3 objective_velocity1;
+  // Objective velocity `s2` of body 2. Part `RSL_PART_OBJECTIVE`.
+  struct rsl_vec3 objective_velocity2;
+} rsl_decomposition;
 
 // Per-call inputs of a contact step. Zero-initialise it and set what the model needs:
 // `normal_force` and `dt` always.
@@ -374,55 +538,6 @@ typedef struct rsl_wall {
   struct rsl_vec3 angular_velocity;
 } rsl_wall;
 
-// Options of a decomposition. Pass NULL for the defaults (midplane, exact rolling radius,
-// every part), or start from `rsl_decompose_options_default()`.
-typedef struct rsl_decompose_options {
-  // `RSL_BRANCH_MIDPLANE` or `RSL_BRANCH_RADII`.
-  int32_t branch_rule;
-  // `RSL_ROLLING_RADIUS_EXACT` or `RSL_ROLLING_RADIUS_EFFECTIVE`.
-  int32_t rolling_radius_rule;
-  // OR of `RSL_PART_*` bits: the parts to compute (the geometry is always computed); parts
-  // not asked for are not computed and are reported as 0.
-  uint32_t parts;
-} rsl_decompose_options;
-
-// The decomposition of one contact (body 1 relative to body 2, `normal` from 1 to 2). Fields
-// of parts not asked for are 0. For a wall, `distance` and `branch2` are +infinity.
-typedef struct rsl_decomposition {
-  // Unit normal from body 1 to body 2 (into the wall).
-  struct rsl_vec3 normal;
-  // Centre distance `d`.
-  double distance;
-  // Overlap `delta = R1 + R2 - d` (> 0 in contact).
-  double overlap;
-  // Branch length `l1` (centre of body 1 to contact point).
-  double branch1;
-  // Branch length `l2` (centre of body 2 to contact point).
-  double branch2;
-  // Rolling radius `R_r`.
-  double rolling_radius;
-  // Contact point `r1 + l1 n`.
-  struct rsl_vec3 contact_point;
-  // Normal rate `ddot = n . (v2 - v1)`; overlap rate is `-ddot`. Part `RSL_PART_NORMAL_RATE`.
-  double normal_rate;
-  // Sliding velocity of body 1 relative to body 2 (tangential). Part `RSL_PART_SLIDING`.
-  struct rsl_vec3 sliding_velocity;
-  // Rolling velocity `R_r (w1 - w2) x n` (tangential). Part `RSL_PART_ROLLING`.
-  struct rsl_vec3 rolling_velocity;
-  // Twisting rate `(w1 - w2) . n`. Part `RSL_PART_TWISTING`.
-  double twisting_rate;
-  // Contact velocity `d r_c/dt`. Part `RSL_PART_RIGID`.
-  struct rsl_vec3 contact_velocity;
-  // Tumbling `w_rbr = n x (v2 - v1)/d` (wall: its tangential angular velocity). Part `RSL_PART_RIGID`.
-  struct rsl_vec3 tumbling;
-  // Frame spin `w_rbs = (w1 + w2) . n / 2`. Part `RSL_PART_RIGID`.
-  double frame_spin;
-  // Objective velocity `s1` of body 1. Part `RSL_PART_OBJECTIVE`.
-  struct rsl_vec3 objective_velocity1;
-  // Objective velocity `s2` of body 2. Part `RSL_PART_OBJECTIVE`.
-  struct rsl_vec3 objective_velocity2;
-} rsl_decomposition;
-
 // Velocities of two spheres (output of `rsl_compose`).
 typedef struct rsl_pair_velocities {
   // Velocity of the centre of body 1.
@@ -484,6 +599,9 @@ typedef struct rsl_rolling_params {
   double stiffness_factor;
 } rsl_rolling_params;
 
+// Every scene, in code order.
+#define Scene_ALL { Generic, FullExact, FullLammps, SlidingExact, SlidingRollingExact, SlidingLammps, }
+
 
 
 
@@ -501,6 +619,109 @@ typedef struct rsl_rolling_params {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Steps many sphere-sphere contacts (particle-major). Contact `c` joins particles
+// `pairs[2c]` (body 1) and `pairs[2c+1]` (body 2); its normal force is `normal_force[c]`
+// (>= 0) and its history `states[c]`. The loads are **added** to the particle arrays:
+// `force[i] += F1`, `force[j] -= F1`, `torque[i] += M1`, `torque[j] += M2` (in contact order,
+// so the sums do not depend on the SIMD level). `normal_stiffness` (per contact, k_n > 0) is
+// read only when the model needs it (EPSD-derived rolling stiffness, LIGGGHTS' cdt) and may
+// be NULL otherwise. `options` may be NULL (double, best SIMD). `report` may be NULL.
+//
+// Same physics as `rsl_contact_step` with `normal_force` and `dt` set (no per-contact
+// parameter overrides, no limit force, no setup pass, no energy terms beyond what the model
+// tracks internally); a model with damping-ratio rolling damping is refused.
+//
+// Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
+// centres, branch <= 0, negative normal force, non-finite result) are skipped in the same
+// pass: their state and loads are not written; every other contact is processed. The call
+// then returns the status `rsl_contact_step` would give for the first skipped contact, and
+// `report` gives its index and the number skipped. `RSL_OK` means every contact was processed.
+// Call-level errors (NULL array, invalid handle or model, dt, options) process nothing.
+//
+// # Safety
+// Every array must hold the stated number of elements (`particles`, `force`, `torque`:
+// `n_particles`; `pairs`: `2 n_contacts`; the others `n_contacts`); NULL only for an empty
+// array. `states`, `force`, `torque` and `report` must not overlap each other or any input.
+// The model must not be modified during the call.
+int32_t rsl_batch_step(const struct rsl_model *model,
+                       const struct rsl_sphere *particles,
+                       size_t n_particles,
+                       const uint32_t *pairs,
+                       size_t n_contacts,
+                       const double *normal_force,
+                       const double *normal_stiffness,
+                       double dt,
+                       const struct rsl_batch_options *options,
+                       struct rsl_contact_state *states,
+                       struct rsl_vec3 *force,
+                       struct rsl_vec3 *torque,
+                       struct rsl_batch_report *report);
+
+// Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
+// `normal_force[c]`, `states[c]`, and its loads are **written** to `out[c]`. No two contacts
+// share an output, so ranges of contacts can run on different threads. Otherwise as
+// `rsl_batch_step` (same validation, skipping and report).
+//
+// # Safety
+// Every array must hold `n` elements (NULL only when `n = 0`); `states`, `out` and `report`
+// must not overlap each other or any input. The model must not be modified during the call.
+int32_t rsl_batch_step_contacts(const struct rsl_model *model,
+                                const struct rsl_sphere *body1,
+                                const struct rsl_sphere *body2,
+                                size_t n,
+                                const double *normal_force,
+                                const double *normal_stiffness,
+                                double dt,
+                                const struct rsl_batch_options *options,
+                                struct rsl_contact_state *states,
+                                struct rsl_batch_loads *out,
+                                struct rsl_batch_report *report);
+
+// Decomposes many sphere-sphere contacts (particle-major): contact `c` joins particles
+// `pairs[2c]` and `pairs[2c+1]`; `out[c]` receives its decomposition (as `rsl_decompose`
+// with `decompose_options`, NULL for the defaults). Invalid contacts are skipped (their `out`
+// untouched) as in `rsl_batch_step`. In single precision the geometry fields are computed in
+// double and the rates in single.
+//
+// # Safety
+// `particles` holds `n_particles` spheres, `pairs` `2 n_contacts` indices, `out` `n_contacts`
+// elements (NULL only when empty); `out` and `report` must not overlap inputs or each other.
+int32_t rsl_batch_decompose(const struct rsl_sphere *particles,
+                            size_t n_particles,
+                            const uint32_t *pairs,
+                            size_t n_contacts,
+                            const struct rsl_decompose_options *decompose_options,
+                            const struct rsl_batch_options *options,
+                            struct rsl_decomposition *out,
+                            struct rsl_batch_report *report);
+
+// Decomposes many sphere-sphere contacts (contact-major): `out[c]` is the decomposition of
+// `body1[c]` relative to `body2[c]`. Otherwise as `rsl_batch_decompose`.
+//
+// # Safety
+// `body1`, `body2`, `out` hold `n` elements (NULL only when `n = 0`); `out` and `report` must
+// not overlap inputs or each other.
+int32_t rsl_batch_decompose_contacts(const struct rsl_sphere *body1,
+                                     const struct rsl_sphere *body2,
+                                     size_t n,
+                                     const struct rsl_decompose_options *decompose_options,
+                                     const struct rsl_batch_options *options,
+                                     struct rsl_decomposition *out,
+                                     struct rsl_batch_report *report);
+
+// Bit set of the SIMD levels this CPU supports: bit `RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`,
+// `RSL_SIMD_AVX512` (e.g. `(rsl_batch_simd_support() >> RSL_SIMD_AVX2) & 1`).
+uint32_t rsl_batch_simd_support(void);
+
+// The scene kernel a model would run in a batch (0: generic; `rsl_batch_report.scene` gives
+// the one that ran): 1 full law set, exact transport (objective); 2 full law set, LAMMPS_2021;
+// 3 sliding only, exact; 4 sliding + rolling, exact; 5 sliding only, LAMMPS_2021. Writes
+// `*scene` on success.
+//
+// # Safety
+// `model` must be a live model; `scene` NULL or writable.
+int32_t rsl_batch_scene(const struct rsl_model *model, uint32_t *scene);
 
 // Resets a contact state to a fresh contact (all zero).
 //

@@ -195,6 +195,20 @@ pub fn decompose_pair_unchecked<T: Real>(
     decompose_pair_in(g, body1, body2, parts)
 }
 
+/// Decomposes the relative motion of two spheres for a geometry already computed from the same
+/// two bodies (for example in higher precision than `T`, or once for several uses). The rates
+/// use the bodies' velocities and angular velocities only; their positions and radii are read
+/// through `geometry`. Same formulas as [`decompose_pair_unchecked`], which calls this.
+#[inline(always)]
+pub fn decompose_pair_with_geometry<T: Real>(
+    geometry: ContactGeometry<T>,
+    body1: &Sphere<T>,
+    body2: &Sphere<T>,
+    parts: Parts,
+) -> Decomposition<T> {
+    decompose_pair_in(geometry, body1, body2, parts)
+}
+
 /// The sphere-pair rates for a geometry already computed from the same two bodies.
 #[inline(always)]
 fn decompose_pair_in<T: Real>(
@@ -251,6 +265,18 @@ pub fn decompose_wall_unchecked<T: Real>(
         options,
     );
     decompose_wall_in(g, sphere, wall, parts)
+}
+
+/// Decomposes the motion of a sphere relative to a flat wall for a geometry already computed
+/// from the same sphere and wall (see [`decompose_pair_with_geometry`]).
+#[inline(always)]
+pub fn decompose_wall_with_geometry<T: Real>(
+    geometry: ContactGeometry<T>,
+    sphere: &Sphere<T>,
+    wall: &Wall<T>,
+    parts: Parts,
+) -> Decomposition<T> {
+    decompose_wall_in(geometry, sphere, wall, parts)
 }
 
 /// The sphere-wall rates for a geometry already computed from the same sphere and wall.

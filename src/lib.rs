@@ -13,6 +13,7 @@
 //! The physics is written once, generic over [`scalar::Real`] (f64, f32 and SIMD lanes).
 //! The C ABI lives in [`capi`]; its header is `include/rollslide.h`.
 
+pub mod batch;
 pub mod capi;
 pub mod decompose;
 pub mod error;

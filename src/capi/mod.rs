@@ -5,6 +5,7 @@
 //! every body behind one panic boundary ([`guard`]); only `#[repr(C)]` structs of doubles and
 //! fixed-width integers cross the boundary; option codes arrive as integers and are validated.
 
+pub mod batch;
 pub mod contact;
 pub mod decompose;
 pub mod model;

@@ -3,8 +3,11 @@
 //! energy terms. One generic implementation for every [`Real`] type; a law that is off costs
 //! nothing (its branch is decided once per call from the model, never per lane).
 
-use crate::decompose::{decompose_pair_unchecked, decompose_wall_unchecked, Parts, Sphere, Wall};
+use crate::decompose::{
+    decompose_pair_with_geometry, decompose_wall_with_geometry, Parts, Sphere, Wall,
+};
 use crate::geometry::ContactGeometry;
+use crate::geometry::{pair_geometry_unchecked, wall_geometry_unchecked};
 use crate::laws::model::{
     DampingMode, Model, RollingDamping, RollingForm, RollingLaw, RollingStiffness, SlidingLaw,
     TwistingLaw,
@@ -183,6 +186,37 @@ pub fn contact_step_unchecked<T: Real>(
     input: &StepInput<T>,
     state: &mut ContactState<T>,
 ) -> StepOutput<T> {
+    let g = match body2 {
+        Partner::Sphere(b2) => pair_geometry_unchecked(
+            &body1.position,
+            &b2.position,
+            body1.radius,
+            b2.radius,
+            model.geometry,
+        ),
+        Partner::Wall(w) => wall_geometry_unchecked(
+            &body1.position,
+            body1.radius,
+            &w.point,
+            &w.normal,
+            model.geometry,
+        ),
+    };
+    contact_step_with_geometry(model, g, body1, body2, input, state)
+}
+
+/// Steps one contact for a geometry already computed from the same bodies with
+/// `model.geometry` (the mixed-precision batch computes it in f64 and steps in f32). Identical
+/// to [`contact_step_unchecked`], which calls this; the bodies' positions are not read here.
+#[inline(always)]
+pub fn contact_step_with_geometry<T: Real>(
+    model: &Model,
+    geometry: ContactGeometry<T>,
+    body1: &Sphere<T>,
+    body2: Partner<'_, T>,
+    input: &StepInput<T>,
+    state: &mut ContactState<T>,
+) -> StepOutput<T> {
     let conv: Conventions = model.preset.conventions();
     let zero = T::zero();
     let half = lit::<T>(0.5);
@@ -198,13 +232,13 @@ pub fn contact_step_unchecked<T: Real>(
     }
     let (d, w2, radius2, is_wall) = match body2 {
         Partner::Sphere(b2) => (
-            decompose_pair_unchecked(body1, b2, model.geometry, parts),
+            decompose_pair_with_geometry(geometry, body1, b2, parts),
             b2.angular_velocity,
             b2.radius,
             false,
         ),
         Partner::Wall(w) => (
-            decompose_wall_unchecked(body1, w, model.geometry, parts),
+            decompose_wall_with_geometry(geometry, body1, w, parts),
             w.angular_velocity,
             lit(f64::INFINITY),
             true,

@@ -1,0 +1,173 @@
+/* Batch C API: results equal per-contact calls (every SIMD level the CPU has, both
+ * precisions), invalid contacts skipped and reported, call-level errors process nothing. */
+#include "rsl_test.h"
+
+#define NP 6
+#define NC 5
+
+static void scene(rsl_sphere p[NP], uint32_t pairs[2 * NC], double fn[NC]) {
+    for (int i = 0; i < NP; i++) {
+        memset(&p[i], 0, sizeof p[i]);
+        p[i].position = rsl_test_vec(0.95 * i, 0.01 * i * i, 0.0);
+        p[i].velocity = rsl_test_vec(0.1 * i, -0.05 * i, 0.02);
+        p[i].angular_velocity = rsl_test_vec(0.3, -0.2 * i, 0.5 + 0.1 * i);
+        p[i].radius = 0.5;
+    }
+    for (int c = 0; c < NC; c++) {
+        pairs[2 * c] = (uint32_t)c;
+        pairs[2 * c + 1] = (uint32_t)(c + 1);
+        fn[c] = 10.0 + c;
+    }
+}
+
+static rsl_model *full_model(void) {
+    rsl_model *m = NULL;
+    CHECK_STATUS(rsl_model_new(RSL_PRESET_OBJECTIVE, &m), RSL_OK);
+    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
+    rsl_rolling_params rp;
+    CHECK_STATUS(rsl_model_get_rolling(m, &rp), RSL_OK);
+    rp.law = RSL_ROLLING_EPSD;
+    rp.stiffness = 5e4;
+    rp.damping = 1.0;
+    rp.friction = 0.1;
+    CHECK_STATUS(rsl_model_set_rolling(m, &rp), RSL_OK);
+    CHECK_STATUS(rsl_model_set_twisting(m, RSL_TWISTING_SDS, 10.0, 0.1, 0.05), RSL_OK);
+    return m;
+}
+
+void test_batch_matches_per_contact_calls(void) {
+    rsl_sphere p[NP];
+    uint32_t pairs[2 * NC];
+    double fn[NC];
+    scene(p, pairs, fn);
+    rsl_model *m = full_model();
+    uint32_t scene_code = 99;
+    CHECK_STATUS(rsl_batch_scene(m, &scene_code), RSL_OK);
+    CHECK(scene_code == 1);
+    const double dt = 1e-4;
+    /* Reference: per-contact calls accumulated by hand. */
+    rsl_vec3 fr[NP], tr[NP];
+    memset(fr, 0, sizeof fr);
+    memset(tr, 0, sizeof tr);
+    rsl_contact_state sr[NC];
+    memset(sr, 0, sizeof sr);
+    rsl_contact_loads lr[NC];
+    for (int c = 0; c < NC; c++) {
+        rsl_contact_input in;
+        memset(&in, 0, sizeof in);
+        in.normal_force = fn[c];
+        in.dt = dt;
+        uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
+        CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &lr[c]), RSL_OK);
+        fr[i].x += lr[c].force1.x, fr[i].y += lr[c].force1.y, fr[i].z += lr[c].force1.z;
+        fr[j].x -= lr[c].force1.x, fr[j].y -= lr[c].force1.y, fr[j].z -= lr[c].force1.z;
+        tr[i].x += lr[c].torque1.x, tr[i].y += lr[c].torque1.y, tr[i].z += lr[c].torque1.z;
+        tr[j].x += lr[c].torque2.x, tr[j].y += lr[c].torque2.y, tr[j].z += lr[c].torque2.z;
+    }
+    uint32_t support = rsl_batch_simd_support();
+    CHECK((support >> RSL_SIMD_SCALAR) & 1);
+    for (uint32_t prec = 0; prec < 2; prec++)
+        for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
+            rsl_batch_options o;
+            memset(&o, 0, sizeof o);
+            o.precision = prec;
+            o.simd = lv;
+            rsl_vec3 f[NP], t[NP];
+            memset(f, 0, sizeof f);
+            memset(t, 0, sizeof t);
+            rsl_contact_state s[NC];
+            memset(s, 0, sizeof s);
+            rsl_batch_report rep;
+            if (!((support >> lv) & 1)) {
+                CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, dt, &o, s, f, t, &rep),
+                             RSL_ERR_INVALID_ARGUMENT);
+                continue;
+            }
+            CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, dt, &o, s, f, t, &rep),
+                         RSL_OK);
+            CHECK(rep.processed == NC && rep.failed == 0 && rep.first_failed == RSL_BATCH_NONE);
+            CHECK(rep.simd == lv && rep.scene == 1);
+            /* double: identical (tolerance 0); single: 1e-5 of the load scale (f_n ~ 10). */
+            double tol = prec ? 1e-4 : 0.0;
+            for (int i = 0; i < NP; i++) {
+                CHECK_VEC(f[i], fr[i].x, fr[i].y, fr[i].z, tol);
+                CHECK_VEC(t[i], tr[i].x, tr[i].y, tr[i].z, tol);
+            }
+            for (int c = 0; c < NC; c++) {
+                CHECK_VEC(s[c].sliding_spring, sr[c].sliding_spring.x, sr[c].sliding_spring.y,
+                          sr[c].sliding_spring.z, prec ? 1e-9 : 0.0);
+            }
+            /* contact-major */
+            rsl_sphere b1[NC], b2[NC];
+            for (int c = 0; c < NC; c++) b1[c] = p[pairs[2 * c]], b2[c] = p[pairs[2 * c + 1]];
+            rsl_batch_loads out[NC];
+            memset(s, 0, sizeof s);
+            CHECK_STATUS(rsl_batch_step_contacts(m, b1, b2, NC, fn, NULL, dt, &o, s, out, NULL),
+                         RSL_OK);
+            for (int c = 0; c < NC; c++) {
+                CHECK_VEC(out[c].force1, lr[c].force1.x, lr[c].force1.y, lr[c].force1.z, tol);
+                CHECK_VEC(out[c].torque2, lr[c].torque2.x, lr[c].torque2.y, lr[c].torque2.z, tol);
+            }
+            /* decomposition */
+            rsl_decomposition d[NC];
+            CHECK_STATUS(rsl_batch_decompose(p, NP, pairs, NC, NULL, &o, d, &rep), RSL_OK);
+            for (int c = 0; c < NC; c++) {
+                rsl_decomposition e;
+                CHECK_STATUS(rsl_decompose(&b1[c], &b2[c], NULL, &e), RSL_OK);
+                CHECK_VEC(d[c].rolling_velocity, e.rolling_velocity.x, e.rolling_velocity.y,
+                          e.rolling_velocity.z, prec ? 1e-6 : 0.0);
+                CHECK(d[c].overlap == e.overlap);
+            }
+            CHECK_STATUS(rsl_batch_decompose_contacts(b1, b2, NC, NULL, &o, d, NULL), RSL_OK);
+        }
+    rsl_model_free(m);
+}
+
+void test_batch_skips_invalid_contacts(void) {
+    rsl_sphere p[NP];
+    uint32_t pairs[2 * NC];
+    double fn[NC];
+    scene(p, pairs, fn);
+    pairs[2 * 1 + 1] = 77;   /* contact 1: index out of range */
+    fn[3] = -1.0;            /* contact 3: negative normal force */
+    rsl_model *m = full_model();
+    rsl_contact_state s[NC];
+    memset(s, 0, sizeof s);
+    s[1].twisting_angle = 42.0; /* marker: must survive */
+    s[3].twisting_angle = 43.0;
+    rsl_vec3 f[NP], t[NP];
+    memset(f, 0, sizeof f);
+    memset(t, 0, sizeof t);
+    rsl_batch_report rep;
+    CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, s, f, t, &rep),
+                 RSL_ERR_INVALID_ARGUMENT);
+    CHECK(rep.processed == 3 && rep.failed == 2 && rep.first_failed == 1);
+    CHECK(rep.first_status == RSL_ERR_INVALID_ARGUMENT);
+    CHECK(s[1].twisting_angle == 42.0 && s[3].twisting_angle == 43.0);
+    CHECK(s[0].previous_normal.x != 0.0 && s[4].previous_normal.x != 0.0);
+    /* only the negative force: its own status */
+    pairs[2 * 1 + 1] = 2;
+    CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, s, f, t, &rep),
+                 RSL_ERR_NEGATIVE_NORMAL_FORCE);
+    CHECK(rep.failed == 1 && rep.first_failed == 3);
+    /* call-level errors process nothing */
+    rsl_contact_state before[NC];
+    memcpy(before, s, sizeof s);
+    CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, 0.0, NULL, s, f, t, &rep),
+                 RSL_ERR_INVALID_TIME_STEP);
+    CHECK(rep.processed == 0 && rep.failed == 0);
+    CHECK_STATUS(rsl_batch_step(m, p, NP, NULL, NC, fn, NULL, 1e-4, NULL, s, f, t, &rep),
+                 RSL_ERR_NULL_POINTER);
+    rsl_batch_options o;
+    memset(&o, 0, sizeof o);
+    o.simd = 9;
+    CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, 1e-4, &o, s, f, t, &rep),
+                 RSL_ERR_INVALID_ARGUMENT);
+    CHECK(memcmp(before, s, sizeof s) == 0);
+    /* empty batch: OK, NULL arrays allowed */
+    CHECK_STATUS(rsl_batch_step(m, NULL, 0, NULL, 0, NULL, NULL, 1e-4, NULL, NULL, NULL, NULL,
+                                &rep),
+                 RSL_OK);
+    CHECK(rep.processed == 0);
+    rsl_model_free(m);
+}

@@ -1,0 +1,136 @@
+//! Lane types the batch kernels are instantiated for: plain `f64` and `f32` (one contact per
+//! call of the generic physics) and simba's array-backed `AutoSimd` packs (several contacts per
+//! call, one per lane). The `AutoSimd` packs are plain arrays that LLVM vectorises with
+//! whatever target features the enclosing function enables (SSE2 by default, AVX2 or AVX-512
+//! inside the `#[target_feature]` wrappers of `capi::batch`). simba's `Wide*` packs were not
+//! used: they pick their instructions from compile-time target features, so a default build
+//! runs them on 128-bit SSE2 even on an AVX-512 machine (see README, Performance).
+
+use crate::scalar::Real;
+use simba::simd::{AutoF32x8, AutoF64x4, AutoF64x8, AutoSimd};
+
+/// The most lanes any [`Lanes`] type has (sizes the per-chunk scratch arrays).
+pub const MAX_LANES: usize = 8;
+
+/// A [`Real`] type with a known number of lanes, built from and read back as `f64` per lane.
+pub trait Lanes: Real {
+    /// Number of contacts per value.
+    const N: usize;
+    /// The `f64` type in which the geometry (branch vector, distance, overlap, branch lengths)
+    /// is computed, so that positions are never rounded to `f32`: the same lanes, or half of
+    /// them (then the geometry is computed in two halves).
+    type Geo: Lanes<Geo = Self::Geo>;
+    /// A value whose lane `k` is `f(k)` (rounded to the element type).
+    fn from_fn<F: FnMut(usize) -> f64>(f: F) -> Self;
+    /// Lane `k` as `f64` (exact).
+    fn lane(&self, k: usize) -> f64;
+    /// Lane-wise conversion from the geometry type (rounding to `f32` where the element is
+    /// `f32`): lanes `0..Geo::N` from `lo`, the others (if any) from `hi`.
+    #[inline(always)]
+    fn from_geo(lo: Self::Geo, hi: Self::Geo) -> Self {
+        let half = <Self::Geo as Lanes>::N;
+        Self::from_fn(|k| {
+            if k < half {
+                lo.lane(k)
+            } else {
+                hi.lane(k - half)
+            }
+        })
+    }
+    /// Scratch array with one `X` per lane.
+    type Arr<X: Copy>: Copy + std::ops::Index<usize, Output = X> + std::ops::IndexMut<usize>;
+    /// A scratch array filled with `x`.
+    fn arr<X: Copy>(x: X) -> Self::Arr<X>;
+}
+
+impl Lanes for f64 {
+    const N: usize = 1;
+    type Geo = f64;
+    #[inline(always)]
+    fn from_fn<F: FnMut(usize) -> f64>(mut f: F) -> Self {
+        f(0)
+    }
+    #[inline(always)]
+    fn lane(&self, _k: usize) -> f64 {
+        *self
+    }
+    type Arr<X: Copy> = [X; 1];
+    #[inline(always)]
+    fn arr<X: Copy>(x: X) -> [X; 1] {
+        [x]
+    }
+}
+
+impl Lanes for f32 {
+    const N: usize = 1;
+    type Geo = f64;
+    #[inline(always)]
+    fn from_fn<F: FnMut(usize) -> f64>(mut f: F) -> Self {
+        f(0) as f32
+    }
+    #[inline(always)]
+    fn lane(&self, _k: usize) -> f64 {
+        *self as f64
+    }
+    type Arr<X: Copy> = [X; 1];
+    #[inline(always)]
+    fn arr<X: Copy>(x: X) -> [X; 1] {
+        [x]
+    }
+}
+
+macro_rules! f64_pack {
+    ($t:ty, $n:expr, $($k:expr),+) => {
+        impl Lanes for $t {
+            const N: usize = $n;
+            type Geo = $t;
+            #[inline(always)]
+            fn from_fn<F: FnMut(usize) -> f64>(mut f: F) -> Self {
+                // Spelled out: `std::array::from_fn` leaves a counted loop in the kernels.
+                AutoSimd([$(f($k)),+])
+            }
+            #[inline(always)]
+            fn lane(&self, k: usize) -> f64 {
+                self.0[k]
+            }
+            #[inline(always)]
+            fn from_geo(lo: $t, _hi: $t) -> Self {
+                lo
+            }
+            type Arr<X: Copy> = [X; $n];
+            #[inline(always)]
+            fn arr<X: Copy>(x: X) -> [X; $n] {
+                [x; $n]
+            }
+        }
+    };
+}
+f64_pack!(AutoF64x4, 4, 0, 1, 2, 3);
+f64_pack!(AutoF64x8, 8, 0, 1, 2, 3, 4, 5, 6, 7);
+
+impl Lanes for AutoF32x8 {
+    const N: usize = 8;
+    type Geo = AutoF64x8;
+    #[inline(always)]
+    fn from_fn<F: FnMut(usize) -> f64>(mut f: F) -> Self {
+        AutoSimd([
+            f(0) as f32,
+            f(1) as f32,
+            f(2) as f32,
+            f(3) as f32,
+            f(4) as f32,
+            f(5) as f32,
+            f(6) as f32,
+            f(7) as f32,
+        ])
+    }
+    #[inline(always)]
+    fn lane(&self, k: usize) -> f64 {
+        self.0[k] as f64
+    }
+    type Arr<X: Copy> = [X; 8];
+    #[inline(always)]
+    fn arr<X: Copy>(x: X) -> [X; 8] {
+        [x; 8]
+    }
+}

@@ -1,0 +1,996 @@
+//! Batch kernels: many contacts per call, for the hot loop of a DEM code.
+//!
+//! The kernels run **the same generic functions** as the per-contact path
+//! ([`pair_geometry_unchecked`], [`decompose_pair_with_geometry`], [`contact_step_with_geometry`]),
+//! instantiated for a lane type ([`Lanes`]: `f64`, `f32`, or an `AutoSimd` pack of 4 or 8
+//! contacts) and for a [`Scene`] (a const parameter that folds the model's law choices), so a
+//! batch result equals the per-contact result of the same precision.
+//!
+//! Two ways to feed them ([`StepAccess`], [`DecomposeAccess`]):
+//! - particle-major ([`ParticleSteps`], [`ParticleDecompose`]): particle array + contact index
+//!   pairs; loads are accumulated into per-particle force and torque arrays, in contact order;
+//! - contact-major ([`ContactSteps`], [`ContactDecompose`]): bodies pre-gathered per contact,
+//!   results written per contact (no two contacts touch the same output: safe to split a range
+//!   of contacts across threads).
+//!
+//! Mixed precision: the `f32` kernels compute the geometry (branch vector, distance, overlap,
+//! branch lengths, normal) in `f64` from the `f64` positions, then the rates, the history
+//! transport and update, and the loads in `f32`; the histories are stored in the host's `f64`
+//! state (each step re-reads them, so they carry `f32` rounding: about 6e-8 relative per step).
+//!
+//! Bad input, one pass: each contact is checked (indices, finite inputs and state, radii,
+//! coincident centres, branch lengths, normal force, finite results) lane-wise. An invalid
+//! contact is skipped: its state and outputs are untouched; the others are processed. The
+//! [`BatchReport`] counts the failures and gives the first failing contact with the error the
+//! per-contact checked call would give for it.
+
+pub mod lanes;
+pub mod scene;
+
+pub use lanes::{Lanes, MAX_LANES};
+pub use scene::Scene;
+
+use crate::decompose::{
+    decompose_pair, decompose_pair_with_geometry, Decomposition, Parts, Sphere,
+};
+use crate::error::Error;
+use crate::geometry::{pair_geometry_unchecked, ContactGeometry, GeometryOptions};
+use crate::laws::checked::contact_step_pair;
+use crate::laws::model::{Model, Preset, RollingDamping, RollingLaw, RollingStiffness};
+use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput};
+use crate::scalar::{lit, Real, Vec3};
+use simba::simd::SimdBool;
+
+/// Slip bit of the sliding limit (same value as `RSL_SLIP_SLIDING`).
+pub const SLIP_SLIDING: u32 = 1;
+/// Slip bit of the rolling limit.
+pub const SLIP_ROLLING: u32 = 2;
+/// Slip bit of the twisting limit.
+pub const SLIP_TWISTING: u32 = 4;
+
+/// Reads one sphere from the host's storage.
+pub trait SphereSlot {
+    /// The sphere in `f64`.
+    fn sphere(&self) -> Sphere<f64>;
+    /// Starts loading the slot into the cache (see [`Gather::touch`]). The default loads its
+    /// first and last word into `black_box` (safe code has no prefetch instruction); the C
+    /// types override it with a real prefetch.
+    #[inline(always)]
+    fn touch(&self) {
+        let s = self.sphere();
+        std::hint::black_box(s.position.x);
+        std::hint::black_box(s.radius);
+    }
+}
+
+/// The host's per-contact history.
+pub trait StateSlot {
+    /// Reads the state.
+    fn load(&self) -> ContactState<f64>;
+    /// Writes the state after a successful step, with the `SLIP_*` bits of the step.
+    fn store(&mut self, state: &ContactState<f64>, slip: u32);
+}
+
+/// A 3-vector accumulator of the host (force or torque of a particle).
+pub trait AddSlot {
+    /// `self += v`.
+    fn add(&mut self, v: [f64; 3]);
+    /// Loads the slot (see [`Gather::touch`]).
+    fn touch(&self);
+}
+
+impl AddSlot for [f64; 3] {
+    #[inline(always)]
+    fn add(&mut self, v: [f64; 3]) {
+        self[0] += v[0];
+        self[1] += v[1];
+        self[2] += v[2];
+    }
+    #[inline(always)]
+    fn touch(&self) {
+        std::hint::black_box(self[0]);
+    }
+}
+
+impl SphereSlot for Sphere<f64> {
+    #[inline(always)]
+    fn sphere(&self) -> Sphere<f64> {
+        *self
+    }
+}
+
+impl StateSlot for ContactState<f64> {
+    #[inline(always)]
+    fn load(&self) -> ContactState<f64> {
+        *self
+    }
+    #[inline(always)]
+    fn store(&mut self, state: &ContactState<f64>, _slip: u32) {
+        *self = *state;
+    }
+}
+
+/// Loads of one contact: force on body 1 (body 2 gets `-force1`) and torques on both bodies.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairLoads {
+    /// Force on body 1.
+    pub force1: [f64; 3],
+    /// Torque on body 1 about its centre.
+    pub torque1: [f64; 3],
+    /// Torque on body 2 about its centre.
+    pub torque2: [f64; 3],
+}
+
+/// A per-contact output slot of the contact-major step.
+pub trait LoadsSlot {
+    /// Writes the loads of a successful step.
+    fn set(&mut self, loads: &PairLoads);
+}
+
+impl LoadsSlot for PairLoads {
+    #[inline(always)]
+    fn set(&mut self, loads: &PairLoads) {
+        *self = *loads;
+    }
+}
+
+/// A per-contact output slot of a decomposition batch.
+pub trait DecompositionSlot {
+    /// Writes the decomposition of a valid contact.
+    fn set(&mut self, d: &Decomposition<f64>);
+}
+
+impl DecompositionSlot for Decomposition<f64> {
+    #[inline(always)]
+    fn set(&mut self, d: &Decomposition<f64>) {
+        *self = *d;
+    }
+}
+
+/// Outcome of a batch call.
+#[derive(Debug, Default)]
+pub struct BatchReport {
+    /// Contacts processed (state and outputs written).
+    pub processed: usize,
+    /// Contacts skipped as invalid (state and outputs untouched).
+    pub failed: usize,
+    /// Index of the first skipped contact.
+    pub first_failed: Option<usize>,
+    /// Why the first skipped contact failed (the per-contact checked call's error).
+    pub first_error: Option<Error>,
+}
+
+impl BatchReport {
+    #[cold]
+    #[inline(never)]
+    fn fail(&mut self, contact: usize, why: impl FnOnce() -> Error) {
+        self.failed += 1;
+        if self.first_failed.is_none() {
+            self.first_failed = Some(contact);
+            self.first_error = Some(why());
+        }
+    }
+}
+
+/// How the kernels reach the two bodies of a contact without copying them.
+pub trait Gather {
+    /// The sphere slot type.
+    type P: SphereSlot;
+    /// False when body references cannot be formed (contacts but no particle): every contact
+    /// then fails as out of range.
+    fn gatherable(&self) -> bool;
+    /// The two bodies of contact `c`, always readable (an out-of-range index is clamped to a
+    /// valid particle), and whether the contact's indices were in range.
+    fn body_refs(&self, c: usize) -> (&Self::P, &Self::P, bool);
+    /// Starts loading what contact `c` (possibly `>= len()`: nothing) will read from scattered
+    /// places, so that the cache misses of several contacts overlap. Safe code cannot issue a
+    /// prefetch instruction; a load whose value goes to `black_box` does the same job.
+    #[inline(always)]
+    fn touch(&self, _c: usize) {}
+}
+
+/// What the step kernels read and write, per contact index `c < len()`.
+pub trait StepAccess: Gather {
+    /// The state slot type.
+    type State: StateSlot;
+    /// Number of contacts.
+    fn len(&self) -> usize;
+    /// True when there is no contact.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The two bodies, or `None` when the contact's particle indices are invalid.
+    fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)>;
+    /// Normal force magnitude `f_n` (>= 0).
+    fn normal_force(&self, c: usize) -> f64;
+    /// Normal stiffness `k_n` (read only when the model needs it).
+    fn normal_stiffness(&self, c: usize) -> f64;
+    /// The state of contact `c`.
+    fn state(&mut self, c: usize) -> &mut Self::State;
+    /// The state of contact `c`, read only.
+    fn state_ref(&self, c: usize) -> &Self::State;
+    /// Delivers the loads of a successful step of contact `c`.
+    fn emit(&mut self, c: usize, loads: &PairLoads);
+}
+
+/// What the decomposition kernels read and write.
+pub trait DecomposeAccess: Gather {
+    /// Number of contacts.
+    fn len(&self) -> usize;
+    /// True when there is no contact.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The two bodies, or `None` when the contact's particle indices are invalid.
+    fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)>;
+    /// Delivers the decomposition of a valid contact `c`.
+    fn emit(&mut self, c: usize, d: &Decomposition<f64>);
+}
+
+#[inline(always)]
+fn pair_refs<P>(particles: &[P], pair: [u32; 2]) -> (&P, &P, bool) {
+    let last = particles.len() - 1;
+    let (i, j) = (pair[0] as usize, pair[1] as usize);
+    (
+        &particles[i.min(last)],
+        &particles[j.min(last)],
+        i <= last && j <= last,
+    )
+}
+
+#[inline(always)]
+fn pair_bodies<P: SphereSlot>(
+    particles: &[P],
+    pair: [u32; 2],
+) -> Option<(Sphere<f64>, Sphere<f64>)> {
+    let a = particles.get(pair[0] as usize)?;
+    let b = particles.get(pair[1] as usize)?;
+    Some((a.sphere(), b.sphere()))
+}
+
+/// Particle-major step: particles + index pairs; loads accumulated per particle
+/// (`force[i] += F1`, `force[j] -= F1`, `torque[i] += M1`, `torque[j] += M2`).
+pub struct ParticleSteps<'a, P, S, V> {
+    /// Particles (index space of `pairs`).
+    pub particles: &'a [P],
+    /// Contacts `(i, j)`: body 1 is particle `i`, body 2 particle `j`.
+    pub pairs: &'a [[u32; 2]],
+    /// `f_n` per contact.
+    pub normal_force: &'a [f64],
+    /// `k_n` per contact when the model needs it.
+    pub normal_stiffness: Option<&'a [f64]>,
+    /// State per contact.
+    pub states: &'a mut [S],
+    /// Force accumulator per particle.
+    pub force: &'a mut [V],
+    /// Torque accumulator per particle.
+    pub torque: &'a mut [V],
+}
+
+impl<'a, P, S, V> ParticleSteps<'a, P, S, V> {
+    /// Checks that the per-contact arrays have one entry per pair and the per-particle ones one
+    /// per particle.
+    pub fn check(&self) -> Result<(), Error> {
+        let nc = self.pairs.len();
+        let np = self.particles.len();
+        let ok = self.normal_force.len() == nc
+            && self.normal_stiffness.map_or(true, |k| k.len() == nc)
+            && self.states.len() == nc
+            && self.force.len() == np
+            && self.torque.len() == np;
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::InvalidArgument(
+                "batch array lengths do not match".to_string(),
+            ))
+        }
+    }
+}
+
+impl<P: SphereSlot, S, V: AddSlot> Gather for ParticleSteps<'_, P, S, V> {
+    type P = P;
+    #[inline(always)]
+    fn gatherable(&self) -> bool {
+        !self.particles.is_empty()
+    }
+    #[inline(always)]
+    fn body_refs(&self, c: usize) -> (&P, &P, bool) {
+        pair_refs(self.particles, self.pairs[c])
+    }
+    #[inline(always)]
+    fn touch(&self, c: usize) {
+        if let Some(&[i, j]) = self.pairs.get(c) {
+            for idx in [i as usize, j as usize] {
+                if let (Some(p), Some(f), Some(t)) = (
+                    self.particles.get(idx),
+                    self.force.get(idx),
+                    self.torque.get(idx),
+                ) {
+                    p.touch();
+                    f.touch();
+                    t.touch();
+                }
+            }
+        }
+    }
+}
+
+impl<P: SphereSlot, S: StateSlot, V: AddSlot> StepAccess for ParticleSteps<'_, P, S, V> {
+    type State = S;
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.pairs.len()
+    }
+    #[inline(always)]
+    fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)> {
+        pair_bodies(self.particles, self.pairs[c])
+    }
+    #[inline(always)]
+    fn normal_force(&self, c: usize) -> f64 {
+        self.normal_force[c]
+    }
+    #[inline(always)]
+    fn normal_stiffness(&self, c: usize) -> f64 {
+        self.normal_stiffness.map_or(0.0, |k| k[c])
+    }
+    #[inline(always)]
+    fn state(&mut self, c: usize) -> &mut S {
+        &mut self.states[c]
+    }
+    #[inline(always)]
+    fn state_ref(&self, c: usize) -> &S {
+        &self.states[c]
+    }
+    #[inline(always)]
+    fn emit(&mut self, c: usize, l: &PairLoads) {
+        let [i, j] = self.pairs[c];
+        let (i, j) = (i as usize, j as usize);
+        self.force[i].add(l.force1);
+        self.force[j].add([-l.force1[0], -l.force1[1], -l.force1[2]]);
+        self.torque[i].add(l.torque1);
+        self.torque[j].add(l.torque2);
+    }
+}
+
+/// Contact-major step: bodies pre-gathered per contact, loads written per contact.
+pub struct ContactSteps<'a, P, S, O> {
+    /// Body 1 of each contact.
+    pub body1: &'a [P],
+    /// Body 2 of each contact.
+    pub body2: &'a [P],
+    /// `f_n` per contact.
+    pub normal_force: &'a [f64],
+    /// `k_n` per contact when the model needs it.
+    pub normal_stiffness: Option<&'a [f64]>,
+    /// State per contact.
+    pub states: &'a mut [S],
+    /// Loads per contact.
+    pub out: &'a mut [O],
+}
+
+impl<'a, P, S, O> ContactSteps<'a, P, S, O> {
+    /// Checks that every array has one entry per contact.
+    pub fn check(&self) -> Result<(), Error> {
+        let n = self.body1.len();
+        let ok = self.body2.len() == n
+            && self.normal_force.len() == n
+            && self.normal_stiffness.map_or(true, |k| k.len() == n)
+            && self.states.len() == n
+            && self.out.len() == n;
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::InvalidArgument(
+                "batch array lengths do not match".to_string(),
+            ))
+        }
+    }
+}
+
+impl<P: SphereSlot, S, O> Gather for ContactSteps<'_, P, S, O> {
+    type P = P;
+    #[inline(always)]
+    fn gatherable(&self) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn body_refs(&self, c: usize) -> (&P, &P, bool) {
+        (&self.body1[c], &self.body2[c], true)
+    }
+}
+
+impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, P, S, O> {
+    type State = S;
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.body1.len()
+    }
+    #[inline(always)]
+    fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)> {
+        Some((self.body1[c].sphere(), self.body2[c].sphere()))
+    }
+    #[inline(always)]
+    fn normal_force(&self, c: usize) -> f64 {
+        self.normal_force[c]
+    }
+    #[inline(always)]
+    fn normal_stiffness(&self, c: usize) -> f64 {
+        self.normal_stiffness.map_or(0.0, |k| k[c])
+    }
+    #[inline(always)]
+    fn state(&mut self, c: usize) -> &mut S {
+        &mut self.states[c]
+    }
+    #[inline(always)]
+    fn state_ref(&self, c: usize) -> &S {
+        &self.states[c]
+    }
+    #[inline(always)]
+    fn emit(&mut self, c: usize, l: &PairLoads) {
+        self.out[c].set(l);
+    }
+}
+
+/// Particle-major decomposition: particles + index pairs, one decomposition per contact.
+pub struct ParticleDecompose<'a, P, D> {
+    /// Particles.
+    pub particles: &'a [P],
+    /// Contacts `(i, j)`.
+    pub pairs: &'a [[u32; 2]],
+    /// Output per contact.
+    pub out: &'a mut [D],
+}
+
+impl<P: SphereSlot, D> Gather for ParticleDecompose<'_, P, D> {
+    type P = P;
+    #[inline(always)]
+    fn gatherable(&self) -> bool {
+        !self.particles.is_empty()
+    }
+    #[inline(always)]
+    fn body_refs(&self, c: usize) -> (&P, &P, bool) {
+        pair_refs(self.particles, self.pairs[c])
+    }
+    #[inline(always)]
+    fn touch(&self, c: usize) {
+        if let Some(&[i, j]) = self.pairs.get(c) {
+            for idx in [i as usize, j as usize] {
+                if let Some(p) = self.particles.get(idx) {
+                    p.touch();
+                }
+            }
+        }
+    }
+}
+
+impl<P: SphereSlot, D: DecompositionSlot> DecomposeAccess for ParticleDecompose<'_, P, D> {
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.pairs.len()
+    }
+    #[inline(always)]
+    fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)> {
+        pair_bodies(self.particles, self.pairs[c])
+    }
+    #[inline(always)]
+    fn emit(&mut self, c: usize, d: &Decomposition<f64>) {
+        self.out[c].set(d);
+    }
+}
+
+/// Contact-major decomposition: bodies pre-gathered per contact.
+pub struct ContactDecompose<'a, P, D> {
+    /// Body 1 of each contact.
+    pub body1: &'a [P],
+    /// Body 2 of each contact.
+    pub body2: &'a [P],
+    /// Output per contact.
+    pub out: &'a mut [D],
+}
+
+impl<P: SphereSlot, D> Gather for ContactDecompose<'_, P, D> {
+    type P = P;
+    #[inline(always)]
+    fn gatherable(&self) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn body_refs(&self, c: usize) -> (&P, &P, bool) {
+        (&self.body1[c], &self.body2[c], true)
+    }
+}
+
+impl<P: SphereSlot, D: DecompositionSlot> DecomposeAccess for ContactDecompose<'_, P, D> {
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.body1.len()
+    }
+    #[inline(always)]
+    fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)> {
+        Some((self.body1[c].sphere(), self.body2[c].sphere()))
+    }
+    #[inline(always)]
+    fn emit(&mut self, c: usize, d: &Decomposition<f64>) {
+        self.out[c].set(d);
+    }
+}
+
+/// Whether the model reads `k_n` per contact (EPSD-derived rolling stiffness, LIGGGHTS' cdt).
+pub fn needs_normal_stiffness(model: &Model) -> bool {
+    let r = &model.rolling;
+    (r.law == RollingLaw::Epsd
+        && matches!(
+            r.stiffness_rule,
+            RollingStiffness::Epsd | RollingStiffness::Epsd3
+        ))
+        || (r.law == RollingLaw::Cdt && model.preset == Preset::Liggghts38)
+}
+
+/// Checks that a model can run in a batch: the batch passes only `f_n`, `dt` and optionally
+/// `k_n` per contact, so damping-ratio rolling damping (masses, inertias) is refused.
+pub fn check_batch_model(model: &Model) -> Result<(), Error> {
+    model.validate()?;
+    if model.rolling.law == RollingLaw::Epsd && model.rolling.damping_rule == RollingDamping::Ratio
+    {
+        return Err(Error::InvalidArgument(
+            "batch step: damping-ratio rolling damping needs masses per contact; use \
+             rsl_contact_step"
+                .to_string(),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks the time step of a batch call.
+pub fn check_time_step(dt: f64) -> Result<(), Error> {
+    if dt.is_finite() && dt > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidTimeStep)
+    }
+}
+
+#[inline(always)]
+fn vec_lanes<L: Lanes>(f: impl Fn(usize) -> Vec3<f64>) -> Vec3<L> {
+    Vec3::new(
+        L::from_fn(|k| f(k).x),
+        L::from_fn(|k| f(k).y),
+        L::from_fn(|k| f(k).z),
+    )
+}
+
+#[inline(always)]
+fn lane3<L: Lanes>(v: &Vec3<L>, k: usize) -> Vec3<f64> {
+    Vec3::new(v.x.lane(k), v.y.lane(k), v.z.lane(k))
+}
+
+#[inline(always)]
+fn arr3<L: Lanes>(v: &Vec3<L>, k: usize) -> [f64; 3] {
+    [v.x.lane(k), v.y.lane(k), v.z.lane(k)]
+}
+
+#[inline(always)]
+fn conv3<L: Lanes>(lo: &Vec3<L::Geo>, hi: &Vec3<L::Geo>) -> Vec3<L> {
+    Vec3::new(
+        L::from_geo(lo.x, hi.x),
+        L::from_geo(lo.y, hi.y),
+        L::from_geo(lo.z, hi.z),
+    )
+}
+
+/// `0 x` is 0 for a finite `x` and NaN for an infinite or NaN one.
+#[inline(always)]
+fn zf<T: Real>(x: T) -> T {
+    x * T::zero()
+}
+
+/// `acc + 0 v_x + 0 v_y + 0 v_z`: stays 0 while every component is finite, NaN otherwise.
+#[inline(always)]
+fn probe<T: Real>(acc: T, v: &Vec3<T>) -> T {
+    acc + (zf(v.x) + zf(v.y) + zf(v.z))
+}
+
+/// How many contacts ahead of the current chunk the kernels touch the scattered data.
+const TOUCH_AHEAD: usize = 24;
+
+/// Bits `0..lanes` set.
+#[inline(always)]
+fn lane_bits(lanes: usize) -> u64 {
+    if lanes >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << lanes) - 1
+    }
+}
+
+/// The bodies of one chunk of lanes, the geometry in `f64` (one or two halves of the lanes),
+/// and the mask of lanes whose inputs are valid.
+struct Gathered<L: Lanes> {
+    body1: Sphere<L>,
+    body2: Sphere<L>,
+    geometry: [ContactGeometry<L::Geo>; 2],
+    valid: u64,
+}
+
+impl<L: Lanes> Gathered<L> {
+    /// The `f64` geometry half holding lane `k`, and the lane's index in it.
+    #[inline(always)]
+    fn geo(&self, k: usize) -> (&ContactGeometry<L::Geo>, usize) {
+        let half = <L::Geo as Lanes>::N;
+        if k < half {
+            (&self.geometry[0], k)
+        } else {
+            (&self.geometry[1], k - half)
+        }
+    }
+
+    /// The geometry in the lane type.
+    #[inline(always)]
+    fn geometry_in(&self) -> ContactGeometry<L> {
+        let [a, b] = &self.geometry;
+        ContactGeometry {
+            normal: conv3::<L>(&a.normal, &b.normal),
+            distance: L::from_geo(a.distance, b.distance),
+            overlap: L::from_geo(a.overlap, b.overlap),
+            branch1: L::from_geo(a.branch1, b.branch1),
+            branch2: L::from_geo(a.branch2, b.branch2),
+            rolling_radius: L::from_geo(a.rolling_radius, b.rolling_radius),
+            contact_point: conv3::<L>(&a.contact_point, &b.contact_point),
+            branch_rate_factor: L::from_geo(a.branch_rate_factor, b.branch_rate_factor),
+        }
+    }
+}
+
+/// The geometry of lanes `offset..offset + G::N` in `f64` lanes, and the mask (shifted to those
+/// lanes) of what `decompose_pair` checks on it: finite positions and radii, radii > 0,
+/// `d >= eps (R1 + R2)`, a unit normal, `l1, l2 > 0`.
+#[inline(always)]
+fn geometry_half<G: Lanes>(
+    at: impl Fn(usize) -> (f64, f64, Vec3<f64>, Vec3<f64>),
+    offset: usize,
+    options: GeometryOptions,
+) -> (ContactGeometry<G>, u64) {
+    let p1 = vec_lanes::<G>(|k| at(offset + k).2);
+    let p2 = vec_lanes::<G>(|k| at(offset + k).3);
+    let r1 = G::from_fn(|k| at(offset + k).0);
+    let r2 = G::from_fn(|k| at(offset + k).1);
+    let g = pair_geometry_unchecked(&p1, &p2, r1, r2, options);
+    let zero = lit::<G>(0.0);
+    let mut acc = zf(r1) + zf(r2) + zf(g.distance);
+    for v in [&p1, &p2] {
+        acc = probe(acc, v);
+    }
+    let ok = acc.simd_eq(zero)
+        & r1.simd_gt(zero)
+        & r2.simd_gt(zero)
+        & g.distance.simd_ge(lit::<G>(f64::EPSILON) * (r1 + r2))
+        // A distance whose square underflows (below ~1.5e-154) gives a normal that is not
+        // unit: refused like the scalar path (geometry::pair_geometry).
+        & (g.normal.norm_squared() - lit::<G>(1.0))
+            .simd_abs()
+            .simd_le(lit::<G>(16.0 * f64::EPSILON))
+        & g.branch1.simd_gt(zero)
+        & g.branch2.simd_gt(zero);
+    (g, ok.bitmask() << offset)
+}
+
+/// Packs the lanes' bodies (read in place), computes the geometry in `f64` lanes, and validates
+/// lane-wise what `decompose_pair` checks (finite input, radii > 0, `d >= eps (R1 + R2)`,
+/// `l1, l2 > 0`); velocities are checked finite in the lane precision.
+#[inline(always)]
+fn gather<L: Lanes, P: SphereSlot>(
+    refs: &L::Arr<(&P, &P)>,
+    options: GeometryOptions,
+) -> Gathered<L> {
+    let at = |k: usize| {
+        let (a, b) = (refs[k].0.sphere(), refs[k].1.sphere());
+        (a.radius, b.radius, a.position, b.position)
+    };
+    let half = <L::Geo as Lanes>::N;
+    let (g0, m0) = geometry_half::<L::Geo>(at, 0, options);
+    let (g1, m1) = if L::N > half {
+        geometry_half::<L::Geo>(at, half, options)
+    } else {
+        (g0, 0)
+    };
+    let v1 = vec_lanes::<L>(|k| refs[k].0.sphere().velocity);
+    let v2 = vec_lanes::<L>(|k| refs[k].1.sphere().velocity);
+    let w1 = vec_lanes::<L>(|k| refs[k].0.sphere().angular_velocity);
+    let w2 = vec_lanes::<L>(|k| refs[k].1.sphere().angular_velocity);
+    let mut acc = L::zero();
+    for v in [&v1, &v2, &w1, &w2] {
+        acc = probe(acc, v);
+    }
+    let sphere = |p: Vec3<L>, v: Vec3<L>, w: Vec3<L>, r: L| Sphere {
+        position: p,
+        velocity: v,
+        angular_velocity: w,
+        radius: r,
+    };
+    // Positions are not read by the rates or the laws (they use the geometry); they are kept
+    // in the lane type for completeness.
+    let p1 = vec_lanes::<L>(|k| refs[k].0.sphere().position);
+    let p2 = vec_lanes::<L>(|k| refs[k].1.sphere().position);
+    Gathered {
+        body1: sphere(p1, v1, w1, L::from_fn(|k| refs[k].0.sphere().radius)),
+        body2: sphere(p2, v2, w2, L::from_fn(|k| refs[k].1.sphere().radius)),
+        geometry: [g0, g1],
+        valid: (m0 | m1) & acc.simd_eq(L::zero()).bitmask(),
+    }
+}
+
+/// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:
+/// [`check_batch_model`], [`check_time_step`]). `L` is the lane type, `S` the [`Scene`] code
+/// (its constants must match `model`: use [`Scene::classify`], or 0).
+#[inline(always)]
+pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess>(
+    model: &Model,
+    dt: f64,
+    access: &mut A,
+) -> BatchReport {
+    let model = scene::fold(Scene::from_code(S), model);
+    let needs_kn = needs_normal_stiffness(&model);
+    let n = access.len();
+    let mut report = BatchReport::default();
+    if n > 0 && !access.gatherable() {
+        for c in 0..n {
+            report.fail(c, || {
+                Error::InvalidArgument("contact's particle index out of range".to_string())
+            });
+        }
+        return report;
+    }
+    let mut c0 = 0;
+    while c0 < n {
+        let lanes = (n - c0).min(L::N);
+        for k in 0..L::N {
+            access.touch(c0 + TOUCH_AHEAD + k);
+        }
+        // Lanes past the end repeat the last contact (their results are dropped).
+        let mut idx = L::arr(c0);
+        for k in 0..L::N {
+            idx[k] = c0 + k.min(lanes - 1);
+        }
+        let first = access.body_refs(c0);
+        let mut refs = L::arr((first.0, first.1));
+        let mut index_ok = 0u64;
+        for k in 0..L::N {
+            let (x, y, ok) = access.body_refs(idx[k]);
+            refs[k] = (x, y);
+            index_ok |= (ok as u64) << k;
+        }
+        let gathered = gather::<L, A::P>(&refs, model.geometry);
+        let zero = L::zero();
+        let force = L::from_fn(|k| access.normal_force(idx[k]));
+        let stiffness = if needs_kn {
+            L::from_fn(|k| access.normal_stiffness(idx[k]))
+        } else {
+            L::one()
+        };
+        let mut states = L::arr(access.state_ref(c0));
+        for k in 0..L::N {
+            states[k] = access.state_ref(idx[k]);
+        }
+        let st = |k: usize| states[k].load();
+        let mut state = ContactState {
+            sliding_spring: vec_lanes::<L>(|k| st(k).sliding_spring),
+            rolling_spring: vec_lanes::<L>(|k| st(k).rolling_spring),
+            twisting_angle: L::from_fn(|k| st(k).twisting_angle),
+            twisting_offaxis: vec_lanes::<L>(|k| st(k).twisting_offaxis),
+            previous_normal: vec_lanes::<L>(|k| st(k).previous_normal),
+        };
+        let mut acc = zf(force) + zf(state.twisting_angle);
+        for v in [
+            &state.sliding_spring,
+            &state.rolling_spring,
+            &state.twisting_offaxis,
+            &state.previous_normal,
+        ] {
+            acc = probe(acc, v);
+        }
+        let mut inputs_ok = acc.simd_eq(zero) & force.simd_ge(zero);
+        if needs_kn {
+            inputs_ok = inputs_ok & stiffness.simd_gt(zero) & zf(stiffness).simd_eq(zero);
+        }
+        let mut input = StepInput::new(force, L::from_fn(|_| dt));
+        input.normal_stiffness = stiffness;
+        let out = contact_step_with_geometry(
+            &model,
+            gathered.geometry_in(),
+            &gathered.body1,
+            Partner::Sphere(&gathered.body2),
+            &input,
+            &mut state,
+        );
+        let l = &out.loads;
+        let mut acc = zf(state.twisting_angle);
+        for v in [
+            &l.force1,
+            &l.torque1,
+            &l.torque2,
+            &state.sliding_spring,
+            &state.rolling_spring,
+            &state.twisting_offaxis,
+        ] {
+            acc = probe(acc, v);
+        }
+        let valid = gathered.valid
+            & index_ok
+            & (inputs_ok & acc.simd_eq(zero)).bitmask()
+            & lane_bits(lanes);
+        let slips = [
+            out.slipped[0].bitmask(),
+            out.slipped[1].bitmask(),
+            out.slipped[2].bitmask(),
+        ];
+        for k in 0..lanes {
+            let c = c0 + k;
+            if valid >> k & 1 == 1 {
+                let s = ContactState {
+                    sliding_spring: lane3(&state.sliding_spring, k),
+                    rolling_spring: lane3(&state.rolling_spring, k),
+                    twisting_angle: state.twisting_angle.lane(k),
+                    twisting_offaxis: lane3(&state.twisting_offaxis, k),
+                    previous_normal: lane3(&state.previous_normal, k),
+                };
+                let bit = |mask: u64, flag: u32| ((mask >> k) & 1) as u32 * flag;
+                let slip = bit(slips[0], SLIP_SLIDING)
+                    | bit(slips[1], SLIP_ROLLING)
+                    | bit(slips[2], SLIP_TWISTING);
+                access.state(c).store(&s, slip);
+                access.emit(
+                    c,
+                    &PairLoads {
+                        force1: arr3(&l.force1, k),
+                        torque1: arr3(&l.torque1, k),
+                        torque2: arr3(&l.torque2, k),
+                    },
+                );
+                report.processed += 1;
+            } else {
+                report.fail(c, || {
+                    step_error(
+                        &model,
+                        dt,
+                        access.bodies(c),
+                        access.normal_force(c),
+                        if needs_kn {
+                            access.normal_stiffness(c)
+                        } else {
+                            1.0
+                        },
+                        &access.state_ref(c).load(),
+                    )
+                });
+            }
+        }
+        c0 += lanes;
+    }
+    report
+}
+
+/// The error the checked per-contact step gives for a contact the kernel refused.
+#[cold]
+fn step_error(
+    model: &Model,
+    dt: f64,
+    bodies: Option<(Sphere<f64>, Sphere<f64>)>,
+    f_n: f64,
+    k_n: f64,
+    state: &ContactState<f64>,
+) -> Error {
+    let Some((b1, b2)) = bodies else {
+        return Error::InvalidArgument("contact's particle index out of range".to_string());
+    };
+    let mut input = StepInput::new(f_n, dt);
+    input.normal_stiffness = k_n;
+    let mut s = *state;
+    match contact_step_pair(model, &b1, &b2, &input, &mut s) {
+        Err(e) => e,
+        Ok(_) => Error::NonFinite("result overflowed in the batch's precision"),
+    }
+}
+
+/// Decomposes every contact of `access` (lane type `L`; in `f32` lanes the geometry is `f64`
+/// and the rates `f32`).
+#[inline(always)]
+pub fn decompose_kernel<L: Lanes, A: DecomposeAccess>(
+    options: GeometryOptions,
+    parts: Parts,
+    access: &mut A,
+) -> BatchReport {
+    let n = access.len();
+    let mut report = BatchReport::default();
+    if n > 0 && !access.gatherable() {
+        for c in 0..n {
+            report.fail(c, || {
+                Error::InvalidArgument("contact's particle index out of range".to_string())
+            });
+        }
+        return report;
+    }
+    let mut c0 = 0;
+    while c0 < n {
+        let lanes = (n - c0).min(L::N);
+        for k in 0..L::N {
+            access.touch(c0 + TOUCH_AHEAD + k);
+        }
+        // Lanes past the end repeat the last contact (their results are dropped).
+        let mut idx = L::arr(c0);
+        for k in 0..L::N {
+            idx[k] = c0 + k.min(lanes - 1);
+        }
+        let first = access.body_refs(c0);
+        let mut refs = L::arr((first.0, first.1));
+        let mut index_ok = 0u64;
+        for k in 0..L::N {
+            let (x, y, ok) = access.body_refs(idx[k]);
+            refs[k] = (x, y);
+            index_ok |= (ok as u64) << k;
+        }
+        let gathered = gather::<L, A::P>(&refs, options);
+        let d = decompose_pair_with_geometry(
+            gathered.geometry_in(),
+            &gathered.body1,
+            &gathered.body2,
+            parts,
+        );
+        let mut acc = zf(d.normal_rate) + zf(d.twisting_rate) + zf(d.frame_spin);
+        for v in [
+            &d.sliding_velocity,
+            &d.rolling_velocity,
+            &d.contact_velocity,
+            &d.tumbling,
+            &d.objective_velocity1,
+            &d.objective_velocity2,
+        ] {
+            acc = probe(acc, v);
+        }
+        let valid = gathered.valid & index_ok & acc.simd_eq(L::zero()).bitmask() & lane_bits(lanes);
+        for k in 0..lanes {
+            let c = c0 + k;
+            if valid >> k & 1 == 1 {
+                let (g, k_g) = gathered.geo(k);
+                let out = Decomposition {
+                    geometry: ContactGeometry {
+                        normal: lane3(&g.normal, k_g),
+                        distance: g.distance.lane(k_g),
+                        overlap: g.overlap.lane(k_g),
+                        branch1: g.branch1.lane(k_g),
+                        branch2: g.branch2.lane(k_g),
+                        rolling_radius: g.rolling_radius.lane(k_g),
+                        contact_point: lane3(&g.contact_point, k_g),
+                        branch_rate_factor: g.branch_rate_factor.lane(k_g),
+                    },
+                    normal_rate: d.normal_rate.lane(k),
+                    sliding_velocity: lane3(&d.sliding_velocity, k),
+                    rolling_velocity: lane3(&d.rolling_velocity, k),
+                    twisting_rate: d.twisting_rate.lane(k),
+                    contact_velocity: lane3(&d.contact_velocity, k),
+                    tumbling: lane3(&d.tumbling, k),
+                    frame_spin: d.frame_spin.lane(k),
+                    objective_velocity1: lane3(&d.objective_velocity1, k),
+                    objective_velocity2: lane3(&d.objective_velocity2, k),
+                };
+                access.emit(c, &out);
+                report.processed += 1;
+            } else {
+                report.fail(c, || match access.bodies(c) {
+                    None => {
+                        Error::InvalidArgument("contact's particle index out of range".to_string())
+                    }
+                    Some((b1, b2)) => {
+                        decompose_pair(&b1, &b2, options, parts)
+                            .err()
+                            .unwrap_or(Error::NonFinite(
+                                "result overflowed in the batch's precision",
+                            ))
+                    }
+                });
+            }
+        }
+        c0 += lanes;
+    }
+    report
+}

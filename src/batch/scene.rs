@@ -1,0 +1,115 @@
+//! Scene specialisation: the batch kernel is instantiated once per configuration below, with
+//! the model's law, transport and preset fields replaced by compile-time constants, so the
+//! generic step's branches on the model fold away and each configuration is its own loop.
+//! A model that matches none of them runs [`Scene::Generic`] (same physics, with the
+//! decisions taken at run time once per chunk of contacts).
+
+use crate::laws::model::{
+    DampingMode, Model, Preset, RollingDamping, RollingForm, RollingLaw, RollingStiffness,
+    SlidingLaw, Transport, TwistingLaw,
+};
+
+/// The specialised configurations (the const parameter `S` of the kernels is `Scene as u8`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Scene {
+    /// Any model: decisions at run time.
+    Generic = 0,
+    /// Objective preset, exact transport: linear sliding + EPSD rolling (given k, gamma, damping
+    /// always, length form) + sds twisting, no energy bookkeeping.
+    FullExact = 1,
+    /// LAMMPS_2021 preset (project-rescale transport): linear history + rolling sds + twisting
+    /// sds, the hand-written C baseline's physics.
+    FullLammps = 2,
+    /// Objective, exact transport, linear sliding only.
+    SlidingExact = 3,
+    /// Objective, exact transport, linear sliding + EPSD rolling, no twisting.
+    SlidingRollingExact = 4,
+    /// LAMMPS_2021 preset, linear history sliding only.
+    SlidingLammps = 5,
+}
+
+impl Scene {
+    /// Every scene, in code order.
+    pub const ALL: [Scene; 6] = [
+        Scene::Generic,
+        Scene::FullExact,
+        Scene::FullLammps,
+        Scene::SlidingExact,
+        Scene::SlidingRollingExact,
+        Scene::SlidingLammps,
+    ];
+
+    /// A short name (benchmark tables).
+    pub fn name(self) -> &'static str {
+        match self {
+            Scene::Generic => "generic",
+            Scene::FullExact => "full/exact",
+            Scene::FullLammps => "full/lammps",
+            Scene::SlidingExact => "sliding/exact",
+            Scene::SlidingRollingExact => "slide+roll/exact",
+            Scene::SlidingLammps => "sliding/lammps",
+        }
+    }
+
+    /// The scene of a code (`Generic` for an unknown one); a `const fn` so that a kernel's
+    /// const parameter names its scene at compile time.
+    #[inline(always)]
+    pub const fn from_code(code: u8) -> Scene {
+        match code {
+            1 => Scene::FullExact,
+            2 => Scene::FullLammps,
+            3 => Scene::SlidingExact,
+            4 => Scene::SlidingRollingExact,
+            5 => Scene::SlidingLammps,
+            _ => Scene::Generic,
+        }
+    }
+
+    /// The most specialised scene whose constants equal `model`'s fields.
+    pub fn classify(model: &Model) -> Scene {
+        Scene::ALL
+            .into_iter()
+            .skip(1)
+            .find(|s| fold(*s, model) == *model)
+            .unwrap_or(Scene::Generic)
+    }
+}
+
+/// The model with `scene`'s constant fields written over it (identity for `Generic`). Called
+/// with a constant `scene` inside an inlined kernel, every branch of the step on these fields
+/// is decided at compile time.
+#[inline(always)]
+pub fn fold(scene: Scene, model: &Model) -> Model {
+    let mut m = *model;
+    let (rolling, twisting, transport, preset) = match scene {
+        Scene::Generic => return m,
+        Scene::FullExact => (true, true, Transport::Exact, Preset::Objective),
+        Scene::FullLammps => (true, true, Transport::ProjectRescale, Preset::Lammps2021),
+        Scene::SlidingExact => (false, false, Transport::Exact, Preset::Objective),
+        Scene::SlidingRollingExact => (true, false, Transport::Exact, Preset::Objective),
+        Scene::SlidingLammps => (false, false, Transport::ProjectRescale, Preset::Lammps2021),
+    };
+    m.sliding.law = SlidingLaw::Linear;
+    m.rolling.law = if rolling {
+        RollingLaw::Epsd
+    } else {
+        RollingLaw::None
+    };
+    if rolling {
+        m.rolling.form = RollingForm::Length;
+        m.rolling.stiffness_rule = RollingStiffness::Given;
+        m.rolling.damping_rule = RollingDamping::Given;
+        m.rolling.damping_mode = DampingMode::Always;
+    }
+    m.twisting.law = if twisting {
+        TwistingLaw::Sds
+    } else {
+        TwistingLaw::None
+    };
+    m.sliding_transport = transport;
+    m.rolling_transport = transport;
+    m.preset = preset;
+    m.track_energy = false;
+    m
+}

@@ -1,0 +1,903 @@
+//! Batch entry points: many contacts per call (`rsl_batch_step`, `rsl_batch_step_contacts`,
+//! `rsl_batch_decompose`, `rsl_batch_decompose_contacts`), the kernel choice (precision, SIMD
+//! level, scene specialisation) and the run-time CPU dispatch.
+//!
+//! Data layout (particle-major calls): particles are an array of `rsl_sphere` (AoS: position,
+//! velocity, angular velocity, radius: 80 bytes, one or two cache lines per particle, which is
+//! what irregular gathers want); contacts are `uint32_t` index pairs `pairs[2c], pairs[2c+1]`
+//! (body 1, body 2); forces and torques are `rsl_vec3` arrays per particle (LAMMPS' `f[i][3]`,
+//! `torque[i][3]`), **accumulated** (`+=`), never cleared. Per-contact arrays (`normal_force`,
+//! `states`) follow contact order.
+//!
+//! The SIMD kernels are the generic physics instantiated for simba's array-backed `AutoSimd`
+//! packs inside `#[target_feature]` functions, chosen at run time from the CPU's features.
+#![allow(non_camel_case_types)]
+
+use super::contact::rsl_contact_state;
+use super::decompose::{parse_options, rsl_decompose_options};
+use super::model::{live_model, rsl_model};
+use super::status::FfiError;
+use super::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
+use super::{guard, optional_input, output};
+use crate::batch::{
+    check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
+    AddSlot, BatchReport, ContactDecompose, ContactSteps, DecomposeAccess, DecompositionSlot,
+    LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, Scene, SphereSlot, StateSlot,
+    StepAccess,
+};
+use crate::decompose::{Decomposition, Parts, Sphere};
+use crate::error::Error;
+use crate::geometry::GeometryOptions;
+use crate::laws::model::Model;
+use crate::laws::step::ContactState;
+
+/// Precision: everything in double (default).
+pub const RSL_PRECISION_F64: u32 = 0;
+/// Precision: mixed single. Geometry (branch vector, distance, overlap, branch lengths) in
+/// double from the double positions; rates, history transport and update, and loads in single;
+/// histories stored in the caller's double state. Loses `v_r` to cancellation when
+/// `|w| >> |w1 - w2|` (kinematics.md section 7) and carries single rounding (~6e-8 relative)
+/// into the histories every step.
+pub const RSL_PRECISION_F32: u32 = 1;
+
+/// SIMD: the fastest level the CPU supports (double: AVX-512, then AVX2+FMA, then scalar;
+/// single: AVX2+FMA, then scalar).
+pub const RSL_SIMD_AUTO: u32 = 0;
+/// SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).
+pub const RSL_SIMD_SCALAR: u32 = 1;
+/// SIMD: AVX2 + FMA (8 double lanes in two ymm registers, or 8 single lanes);
+/// `RSL_ERR_INVALID_ARGUMENT` if absent.
+pub const RSL_SIMD_AVX2: u32 = 2;
+/// SIMD: AVX-512 F/VL/DQ/BW (8 double or 8 single lanes: 16 single lanes measured 1.6x
+/// slower); `RSL_ERR_INVALID_ARGUMENT` if absent.
+pub const RSL_SIMD_AVX512: u32 = 3;
+
+/// Batch flag: do not use a scene-specialised kernel (take the law decisions at run time).
+pub const RSL_BATCH_GENERIC: u32 = 1;
+
+/// Value of `rsl_batch_report.first_failed` when no contact failed.
+pub const RSL_BATCH_NONE: u64 = u64::MAX;
+
+/// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct rsl_batch_options {
+    /// `RSL_PRECISION_F64` or `RSL_PRECISION_F32`.
+    pub precision: u32,
+    /// `RSL_SIMD_AUTO`, `RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2` or `RSL_SIMD_AVX512`.
+    pub simd: u32,
+    /// OR of `RSL_BATCH_*` flags.
+    pub flags: u32,
+    /// Padding; keep 0.
+    pub reserved: u32,
+}
+
+/// What a batch call did. Written whenever the pointer is non-NULL and valid, also on failure:
+/// a call-level error (NULL array, invalid model or time step...) processes nothing
+/// (`processed = failed = 0`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct rsl_batch_report {
+    /// Contacts processed (state and outputs written).
+    pub processed: u64,
+    /// Contacts skipped as invalid (state and outputs untouched).
+    pub failed: u64,
+    /// Index of the first skipped contact, `RSL_BATCH_NONE` if none.
+    pub first_failed: u64,
+    /// Status of the first skipped contact (what `rsl_contact_step` / `rsl_decompose` returns
+    /// for it); `RSL_OK` if none.
+    pub first_status: i32,
+    /// The SIMD level that ran (`RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`, `RSL_SIMD_AVX512`).
+    pub simd: u32,
+    /// The scene kernel that ran (0: generic; see `rsl_batch_scene`).
+    pub scene: u32,
+    /// Padding.
+    pub reserved: u32,
+}
+
+/// Loads of one contact (contact-major step): body 2 receives `-force1` and `torque2`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct rsl_batch_loads {
+    /// Force on body 1.
+    pub force1: rsl_vec3,
+    /// Torque on body 1 about its centre.
+    pub torque1: rsl_vec3,
+    /// Torque on body 2 about its centre.
+    pub torque2: rsl_vec3,
+}
+
+/// Prefetches the cache line holding `*p` (no-op off x86-64).
+#[inline(always)]
+fn prefetch<T>(p: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: PREFETCHT0 is a hint: it never faults and changes no architectural state; the
+    // address comes from a live reference anyway.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+            (p as *const T).cast::<i8>(),
+        )
+    }
+}
+
+impl SphereSlot for rsl_sphere {
+    #[inline(always)]
+    fn sphere(&self) -> Sphere<f64> {
+        Sphere::from(self)
+    }
+    #[inline(always)]
+    fn touch(&self) {
+        // An rsl_sphere is 80 bytes: it may straddle two cache lines.
+        prefetch(&self.position.x);
+        prefetch(&self.radius);
+    }
+}
+
+impl StateSlot for rsl_contact_state {
+    #[inline(always)]
+    fn load(&self) -> ContactState<f64> {
+        ContactState::from(self)
+    }
+    #[inline(always)]
+    fn store(&mut self, s: &ContactState<f64>, slip: u32) {
+        self.sliding_spring = s.sliding_spring.into();
+        self.rolling_spring = s.rolling_spring.into();
+        self.twisting_angle = s.twisting_angle;
+        self.twisting_offaxis = s.twisting_offaxis.into();
+        self.previous_normal = s.previous_normal.into();
+        self.slip_flags = slip;
+    }
+}
+
+impl AddSlot for rsl_vec3 {
+    #[inline(always)]
+    fn add(&mut self, v: [f64; 3]) {
+        self.x += v[0];
+        self.y += v[1];
+        self.z += v[2];
+    }
+    #[inline(always)]
+    fn touch(&self) {
+        prefetch(self);
+    }
+}
+
+fn vec(a: [f64; 3]) -> rsl_vec3 {
+    rsl_vec3 {
+        x: a[0],
+        y: a[1],
+        z: a[2],
+    }
+}
+
+impl LoadsSlot for rsl_batch_loads {
+    #[inline(always)]
+    fn set(&mut self, l: &PairLoads) {
+        *self = rsl_batch_loads {
+            force1: vec(l.force1),
+            torque1: vec(l.torque1),
+            torque2: vec(l.torque2),
+        };
+    }
+}
+
+impl DecompositionSlot for rsl_decomposition {
+    #[inline(always)]
+    fn set(&mut self, d: &Decomposition<f64>) {
+        *self = rsl_decomposition::from(d);
+    }
+}
+
+/// A SIMD level that this CPU has (construct with [`Simd::resolve`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Simd {
+    /// One contact at a time.
+    Scalar,
+    /// AVX2 + FMA.
+    Avx2,
+    /// AVX-512 F/VL/DQ/BW.
+    Avx512,
+}
+
+impl Simd {
+    /// Whether the running CPU supports this level.
+    pub fn available(self) -> bool {
+        match self {
+            Simd::Scalar => true,
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx2 => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => {
+                Simd::Avx2.available()
+                    && is_x86_feature_detected!("avx512f")
+                    && is_x86_feature_detected!("avx512vl")
+                    && is_x86_feature_detected!("avx512dq")
+                    && is_x86_feature_detected!("avx512bw")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// The level for an `RSL_SIMD_*` code: `AUTO` picks the best available; asking for a level
+    /// the CPU lacks is an error.
+    pub fn resolve(code: u32) -> Result<Simd, Error> {
+        let wanted = match code {
+            RSL_SIMD_AUTO => {
+                return Ok([Simd::Avx512, Simd::Avx2]
+                    .into_iter()
+                    .find(|s| s.available())
+                    .unwrap_or(Simd::Scalar))
+            }
+            RSL_SIMD_SCALAR => Simd::Scalar,
+            RSL_SIMD_AVX2 => Simd::Avx2,
+            RSL_SIMD_AVX512 => Simd::Avx512,
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                    "simd {other} is not an RSL_SIMD_* code"
+                )))
+            }
+        };
+        if wanted.available() {
+            Ok(wanted)
+        } else {
+            Err(Error::InvalidArgument(format!(
+                "simd level {wanted:?} is not supported by this CPU"
+            )))
+        }
+    }
+
+    /// The `RSL_SIMD_*` code.
+    pub fn code(self) -> u32 {
+        match self {
+            Simd::Scalar => RSL_SIMD_SCALAR,
+            Simd::Avx2 => RSL_SIMD_AVX2,
+            Simd::Avx512 => RSL_SIMD_AVX512,
+        }
+    }
+}
+
+/// A resolved batch configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BatchConfig {
+    /// Single (mixed) precision.
+    pub f32: bool,
+    /// SIMD level (available on this CPU).
+    pub simd: Simd,
+    /// Use a scene-specialised kernel when the model matches one.
+    pub specialise: bool,
+}
+
+impl BatchConfig {
+    /// Validates C options (NULL: defaults).
+    pub fn from_options(o: Option<&rsl_batch_options>) -> Result<BatchConfig, Error> {
+        let o = o.copied().unwrap_or_default();
+        let f32 = match o.precision {
+            RSL_PRECISION_F64 => false,
+            RSL_PRECISION_F32 => true,
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                    "precision {other} is not RSL_PRECISION_F64 (0) or RSL_PRECISION_F32 (1)"
+                )))
+            }
+        };
+        if o.flags & !RSL_BATCH_GENERIC != 0 {
+            return Err(Error::InvalidArgument(format!(
+                "batch flags 0x{:x} has unknown bits",
+                o.flags
+            )));
+        }
+        let mut simd = Simd::resolve(o.simd)?;
+        if f32 && o.simd == RSL_SIMD_AUTO && simd == Simd::Avx512 {
+            // Measured: the single-precision kernel is 8 lanes wide at both levels, and the
+            // AVX2 build of it is faster (README, Performance).
+            simd = Simd::Avx2;
+        }
+        Ok(BatchConfig {
+            f32,
+            simd,
+            specialise: o.flags & RSL_BATCH_GENERIC == 0,
+        })
+    }
+}
+
+// The kernels, one function per (precision, SIMD level); `S` is the scene code.
+
+fn scalar_f64<const S: u8, A: StepAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
+    step_kernel::<f64, S, A>(m, dt, a)
+}
+
+fn scalar_f32<const S: u8, A: StepAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
+    step_kernel::<f32, S, A>(m, dt, a)
+}
+
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use super::*;
+    use simba::simd::{AutoF32x8, AutoF64x8};
+
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn avx2_f64<const S: u8, A: StepAccess>(
+        m: &Model,
+        dt: f64,
+        a: &mut A,
+    ) -> BatchReport {
+        // Eight lanes in two ymm registers: measured 1.35x faster than four lanes (in cache,
+        // full LAMMPS law set), which leave the per-chunk work and the latency chains exposed.
+        step_kernel::<AutoF64x8, S, A>(m, dt, a)
+    }
+
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn avx2_f32<const S: u8, A: StepAccess>(
+        m: &Model,
+        dt: f64,
+        a: &mut A,
+    ) -> BatchReport {
+        step_kernel::<AutoF32x8, S, A>(m, dt, a)
+    }
+
+    /// # Safety
+    /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+    pub(super) unsafe fn avx512_f64<const S: u8, A: StepAccess>(
+        m: &Model,
+        dt: f64,
+        a: &mut A,
+    ) -> BatchReport {
+        step_kernel::<AutoF64x8, S, A>(m, dt, a)
+    }
+
+    /// # Safety
+    /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+    pub(super) unsafe fn avx512_f32<const S: u8, A: StepAccess>(
+        m: &Model,
+        dt: f64,
+        a: &mut A,
+    ) -> BatchReport {
+        step_kernel::<AutoF32x8, S, A>(m, dt, a)
+    }
+
+    /// # Safety
+    /// The CPU must support AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn decompose_avx2<A: DecomposeAccess>(
+        o: GeometryOptions,
+        p: Parts,
+        f32: bool,
+        a: &mut A,
+    ) -> BatchReport {
+        if f32 {
+            decompose_kernel::<AutoF32x8, A>(o, p, a)
+        } else {
+            decompose_kernel::<AutoF64x8, A>(o, p, a)
+        }
+    }
+
+    /// # Safety
+    /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+    pub(super) unsafe fn decompose_avx512<A: DecomposeAccess>(
+        o: GeometryOptions,
+        p: Parts,
+        f32: bool,
+        a: &mut A,
+    ) -> BatchReport {
+        if f32 {
+            decompose_kernel::<AutoF32x8, A>(o, p, a)
+        } else {
+            decompose_kernel::<AutoF64x8, A>(o, p, a)
+        }
+    }
+}
+
+/// Calls `$($f)::+::<scene code, A>(args)` with the scene as a compile-time constant.
+macro_rules! by_scene {
+    ($scene:expr, $($f:ident)::+ ; $($arg:expr),*) => {
+        match $scene {
+            Scene::Generic => $($f)::+::<0, _>($($arg),*),
+            Scene::FullExact => $($f)::+::<1, _>($($arg),*),
+            Scene::FullLammps => $($f)::+::<2, _>($($arg),*),
+            Scene::SlidingExact => $($f)::+::<3, _>($($arg),*),
+            Scene::SlidingRollingExact => $($f)::+::<4, _>($($arg),*),
+            Scene::SlidingLammps => $($f)::+::<5, _>($($arg),*),
+        }
+    };
+}
+
+/// Steps every contact of `access` with the kernel of `config` (safe: the SIMD level is
+/// re-checked against the CPU). Returns the report and the scene that ran. The model and time
+/// step are validated here; a call-level error processes nothing.
+pub fn run_step<A: StepAccess>(
+    model: &Model,
+    dt: f64,
+    access: &mut A,
+    config: BatchConfig,
+) -> Result<(BatchReport, Scene), Error> {
+    check_batch_model(model)?;
+    check_time_step(dt)?;
+    let scene = if config.specialise {
+        Scene::classify(model)
+    } else {
+        Scene::Generic
+    };
+    if !config.simd.available() {
+        return Err(Error::InvalidArgument(
+            "SIMD level not supported by this CPU".to_string(),
+        ));
+    }
+    let report = match (config.simd, config.f32) {
+        (Simd::Scalar, false) => by_scene!(scene, scalar_f64; model, dt, access),
+        (Simd::Scalar, true) => by_scene!(scene, scalar_f32; model, dt, access),
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `config.simd.available()` was checked above: the CPU has AVX2 and FMA.
+        (Simd::Avx2, false) => unsafe { by_scene!(scene, x86::avx2_f64; model, dt, access) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above (AVX2 and FMA present).
+        (Simd::Avx2, true) => unsafe { by_scene!(scene, x86::avx2_f32; model, dt, access) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA above.
+        (Simd::Avx512, false) => unsafe { by_scene!(scene, x86::avx512_f64; model, dt, access) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        (Simd::Avx512, true) => unsafe { by_scene!(scene, x86::avx512_f32; model, dt, access) },
+        #[cfg(not(target_arch = "x86_64"))]
+        _ => unreachable!("only the scalar level is available off x86-64"),
+    };
+    Ok((report, scene))
+}
+
+/// Decomposes every contact of `access` with the kernel of `config` (safe, as [`run_step`]).
+pub fn run_decompose<A: DecomposeAccess>(
+    options: GeometryOptions,
+    parts: Parts,
+    access: &mut A,
+    config: BatchConfig,
+) -> Result<BatchReport, Error> {
+    if !config.simd.available() {
+        return Err(Error::InvalidArgument(
+            "SIMD level not supported by this CPU".to_string(),
+        ));
+    }
+    Ok(match config.simd {
+        Simd::Scalar if config.f32 => decompose_kernel::<f32, A>(options, parts, access),
+        Simd::Scalar => decompose_kernel::<f64, A>(options, parts, access),
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `available()` checked AVX2 and FMA above.
+        Simd::Avx2 => unsafe { x86::decompose_avx2(options, parts, config.f32, access) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA above.
+        Simd::Avx512 => unsafe { x86::decompose_avx512(options, parts, config.f32, access) },
+        #[cfg(not(target_arch = "x86_64"))]
+        _ => unreachable!("only the scalar level is available off x86-64"),
+    })
+}
+
+/// Borrows `n` elements of an input array; NULL is allowed only for `n = 0`.
+///
+/// # Safety
+/// `p` must be NULL or point to `n` initialised `T` not written during the call.
+unsafe fn slice_in<'a, T>(p: *const T, n: usize, name: &'static str) -> Result<&'a [T], FfiError> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(FfiError::NullPointer(name));
+    }
+    if !p.is_aligned() {
+        return Err(FfiError::Misaligned(name));
+    }
+    if n.checked_mul(std::mem::size_of::<T>())
+        .map_or(true, |bytes| bytes > isize::MAX as usize)
+    {
+        return Err(FfiError::Core(Error::InvalidArgument(format!(
+            "{name}: array length {n} too large"
+        ))));
+    }
+    // SAFETY: non-null, aligned, size within isize::MAX (checked above); validity for `n`
+    // elements is the caller's documented contract.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// Borrows `n` elements of an output (or in-out) array; NULL is allowed only for `n = 0`.
+///
+/// # Safety
+/// `p` must be NULL or point to `n` writable `T` not aliased by any other argument.
+unsafe fn slice_out<'a, T>(
+    p: *mut T,
+    n: usize,
+    name: &'static str,
+) -> Result<&'a mut [T], FfiError> {
+    // SAFETY: forwarded contract (checks in `slice_in`).
+    let s = unsafe { slice_in(p as *const T, n, name)? };
+    let len = s.len();
+    if len == 0 {
+        return Ok(&mut []);
+    }
+    // SAFETY: as `slice_in`; exclusivity is the caller's contract.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
+}
+
+/// Writes the report (if requested) and maps a partial failure to the first failing status.
+fn finish(
+    report: Option<&mut rsl_batch_report>,
+    result: Result<(BatchReport, u32, Simd), Error>,
+) -> Result<(), FfiError> {
+    match result {
+        Err(e) => {
+            if let Some(r) = report {
+                *r = rsl_batch_report {
+                    first_failed: RSL_BATCH_NONE,
+                    first_status: FfiError::Core(e.clone()).code(),
+                    ..Default::default()
+                };
+            }
+            Err(FfiError::Core(e))
+        }
+        Ok((b, scene, simd)) => {
+            let first_status = b
+                .first_error
+                .as_ref()
+                .map_or(super::status::RSL_OK, |e| FfiError::Core(e.clone()).code());
+            if let Some(r) = report {
+                *r = rsl_batch_report {
+                    processed: b.processed as u64,
+                    failed: b.failed as u64,
+                    first_failed: b.first_failed.map_or(RSL_BATCH_NONE, |i| i as u64),
+                    first_status,
+                    simd: simd.code(),
+                    scene,
+                    reserved: 0,
+                };
+            }
+            match (b.first_failed, b.first_error) {
+                (Some(_), Some(e)) => Err(FfiError::Core(e)),
+                _ => Ok(()),
+            }
+        }
+    }
+}
+
+/// Optional report pointer.
+///
+/// # Safety
+/// `p` must be NULL or point to a writable `rsl_batch_report`.
+unsafe fn report_out<'a>(
+    p: *mut rsl_batch_report,
+) -> Result<Option<&'a mut rsl_batch_report>, FfiError> {
+    if p.is_null() {
+        Ok(None)
+    } else {
+        // SAFETY: forwarded contract.
+        unsafe { output(p, "report") }.map(Some)
+    }
+}
+
+/// Steps many sphere-sphere contacts (particle-major). Contact `c` joins particles
+/// `pairs[2c]` (body 1) and `pairs[2c+1]` (body 2); its normal force is `normal_force[c]`
+/// (>= 0) and its history `states[c]`. The loads are **added** to the particle arrays:
+/// `force[i] += F1`, `force[j] -= F1`, `torque[i] += M1`, `torque[j] += M2` (in contact order,
+/// so the sums do not depend on the SIMD level). `normal_stiffness` (per contact, k_n > 0) is
+/// read only when the model needs it (EPSD-derived rolling stiffness, LIGGGHTS' cdt) and may
+/// be NULL otherwise. `options` may be NULL (double, best SIMD). `report` may be NULL.
+///
+/// Same physics as `rsl_contact_step` with `normal_force` and `dt` set (no per-contact
+/// parameter overrides, no limit force, no setup pass, no energy terms beyond what the model
+/// tracks internally); a model with damping-ratio rolling damping is refused.
+///
+/// Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
+/// centres, branch <= 0, negative normal force, non-finite result) are skipped in the same
+/// pass: their state and loads are not written; every other contact is processed. The call
+/// then returns the status `rsl_contact_step` would give for the first skipped contact, and
+/// `report` gives its index and the number skipped. `RSL_OK` means every contact was processed.
+/// Call-level errors (NULL array, invalid handle or model, dt, options) process nothing.
+///
+/// # Safety
+/// Every array must hold the stated number of elements (`particles`, `force`, `torque`:
+/// `n_particles`; `pairs`: `2 n_contacts`; the others `n_contacts`); NULL only for an empty
+/// array. `states`, `force`, `torque` and `report` must not overlap each other or any input.
+/// The model must not be modified during the call.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_step(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    dt: f64,
+    options: *const rsl_batch_options,
+    states: *mut rsl_contact_state,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
+        let report = unsafe { report_out(report)? };
+        let result = (|| -> Result<_, FfiError> {
+            // SAFETY: as above; `[u32; 2]` has the size and alignment of two `u32`.
+            let (m, particles, pairs, f_n, opts, states, force, torque) = unsafe {
+                (
+                    live_model(model)?,
+                    slice_in(particles, n_particles, "particles")?,
+                    slice_in(pairs as *const [u32; 2], n_contacts, "pairs")?,
+                    slice_in(normal_force, n_contacts, "normal_force")?,
+                    optional_input(options, "options")?,
+                    slice_out(states, n_contacts, "states")?,
+                    slice_out(force, n_particles, "force")?,
+                    slice_out(torque, n_particles, "torque")?,
+                )
+            };
+            let k_n = if normal_stiffness.is_null() {
+                if needs_normal_stiffness(&m.model) && n_contacts > 0 {
+                    return Err(FfiError::NullPointer(
+                        "normal_stiffness (the model needs k_n)",
+                    ));
+                }
+                None
+            } else {
+                // SAFETY: as above.
+                Some(unsafe { slice_in(normal_stiffness, n_contacts, "normal_stiffness")? })
+            };
+            let config = BatchConfig::from_options(opts)?;
+            let access = ParticleSteps {
+                particles,
+                pairs,
+                normal_force: f_n,
+                normal_stiffness: k_n,
+                states,
+                force,
+                torque,
+            };
+            access.check()?;
+            Ok((m, access, config))
+        })();
+        match result {
+            Err(e) => {
+                if let Some(r) = report {
+                    *r = rsl_batch_report {
+                        first_failed: RSL_BATCH_NONE,
+                        first_status: e.code(),
+                        ..Default::default()
+                    };
+                }
+                Err(e)
+            }
+            Ok((m, mut access, config)) => finish(
+                report,
+                run_step(&m.model, dt, &mut access, config)
+                    .map(|(b, s)| (b, s as u32, config.simd)),
+            ),
+        }
+    })
+}
+
+/// Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
+/// `normal_force[c]`, `states[c]`, and its loads are **written** to `out[c]`. No two contacts
+/// share an output, so ranges of contacts can run on different threads. Otherwise as
+/// `rsl_batch_step` (same validation, skipping and report).
+///
+/// # Safety
+/// Every array must hold `n` elements (NULL only when `n = 0`); `states`, `out` and `report`
+/// must not overlap each other or any input. The model must not be modified during the call.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_step_contacts(
+    model: *const rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    n: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    dt: f64,
+    options: *const rsl_batch_options,
+    states: *mut rsl_contact_state,
+    out: *mut rsl_batch_loads,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
+        let report = unsafe { report_out(report)? };
+        let result = (|| -> Result<_, FfiError> {
+            // SAFETY: as above.
+            let (m, body1, body2, f_n, opts, states, out) = unsafe {
+                (
+                    live_model(model)?,
+                    slice_in(body1, n, "body1")?,
+                    slice_in(body2, n, "body2")?,
+                    slice_in(normal_force, n, "normal_force")?,
+                    optional_input(options, "options")?,
+                    slice_out(states, n, "states")?,
+                    slice_out(out, n, "out")?,
+                )
+            };
+            let k_n = if normal_stiffness.is_null() {
+                if needs_normal_stiffness(&m.model) && n > 0 {
+                    return Err(FfiError::NullPointer(
+                        "normal_stiffness (the model needs k_n)",
+                    ));
+                }
+                None
+            } else {
+                // SAFETY: as above.
+                Some(unsafe { slice_in(normal_stiffness, n, "normal_stiffness")? })
+            };
+            let config = BatchConfig::from_options(opts)?;
+            let access = ContactSteps {
+                body1,
+                body2,
+                normal_force: f_n,
+                normal_stiffness: k_n,
+                states,
+                out,
+            };
+            access.check()?;
+            Ok((m, access, config))
+        })();
+        match result {
+            Err(e) => {
+                if let Some(r) = report {
+                    *r = rsl_batch_report {
+                        first_failed: RSL_BATCH_NONE,
+                        first_status: e.code(),
+                        ..Default::default()
+                    };
+                }
+                Err(e)
+            }
+            Ok((m, mut access, config)) => finish(
+                report,
+                run_step(&m.model, dt, &mut access, config)
+                    .map(|(b, s)| (b, s as u32, config.simd)),
+            ),
+        }
+    })
+}
+
+/// Decomposes many sphere-sphere contacts (particle-major): contact `c` joins particles
+/// `pairs[2c]` and `pairs[2c+1]`; `out[c]` receives its decomposition (as `rsl_decompose`
+/// with `decompose_options`, NULL for the defaults). Invalid contacts are skipped (their `out`
+/// untouched) as in `rsl_batch_step`. In single precision the geometry fields are computed in
+/// double and the rates in single.
+///
+/// # Safety
+/// `particles` holds `n_particles` spheres, `pairs` `2 n_contacts` indices, `out` `n_contacts`
+/// elements (NULL only when empty); `out` and `report` must not overlap inputs or each other.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_decompose(
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    decompose_options: *const rsl_decompose_options,
+    options: *const rsl_batch_options,
+    out: *mut rsl_decomposition,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
+        let report = unsafe { report_out(report)? };
+        let result = (|| -> Result<_, FfiError> {
+            // SAFETY: as above; `[u32; 2]` has the size and alignment of two `u32`.
+            let (particles, pairs, dopts, opts, out) = unsafe {
+                (
+                    slice_in(particles, n_particles, "particles")?,
+                    slice_in(pairs as *const [u32; 2], n_contacts, "pairs")?,
+                    optional_input(decompose_options, "decompose_options")?,
+                    optional_input(options, "options")?,
+                    slice_out(out, n_contacts, "out")?,
+                )
+            };
+            let (geometry, parts) = parse_options(dopts)?;
+            let config = BatchConfig::from_options(opts)?;
+            Ok((
+                ParticleDecompose {
+                    particles,
+                    pairs,
+                    out,
+                },
+                geometry,
+                parts,
+                config,
+            ))
+        })();
+        decompose_finish(report, result)
+    })
+}
+
+/// Decomposes many sphere-sphere contacts (contact-major): `out[c]` is the decomposition of
+/// `body1[c]` relative to `body2[c]`. Otherwise as `rsl_batch_decompose`.
+///
+/// # Safety
+/// `body1`, `body2`, `out` hold `n` elements (NULL only when `n = 0`); `out` and `report` must
+/// not overlap inputs or each other.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_decompose_contacts(
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    n: usize,
+    decompose_options: *const rsl_decompose_options,
+    options: *const rsl_batch_options,
+    out: *mut rsl_decomposition,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
+        let report = unsafe { report_out(report)? };
+        let result = (|| -> Result<_, FfiError> {
+            // SAFETY: as above.
+            let (body1, body2, dopts, opts, out) = unsafe {
+                (
+                    slice_in(body1, n, "body1")?,
+                    slice_in(body2, n, "body2")?,
+                    optional_input(decompose_options, "decompose_options")?,
+                    optional_input(options, "options")?,
+                    slice_out(out, n, "out")?,
+                )
+            };
+            let (geometry, parts) = parse_options(dopts)?;
+            let config = BatchConfig::from_options(opts)?;
+            Ok((
+                ContactDecompose { body1, body2, out },
+                geometry,
+                parts,
+                config,
+            ))
+        })();
+        decompose_finish(report, result)
+    })
+}
+
+fn decompose_finish<A: DecomposeAccess>(
+    report: Option<&mut rsl_batch_report>,
+    result: Result<(A, GeometryOptions, Parts, BatchConfig), FfiError>,
+) -> Result<(), FfiError> {
+    match result {
+        Err(e) => {
+            if let Some(r) = report {
+                *r = rsl_batch_report {
+                    first_failed: RSL_BATCH_NONE,
+                    first_status: e.code(),
+                    ..Default::default()
+                };
+            }
+            Err(e)
+        }
+        Ok((mut access, geometry, parts, config)) => finish(
+            report,
+            run_decompose(geometry, parts, &mut access, config).map(|b| (b, 0, config.simd)),
+        ),
+    }
+}
+
+/// Bit set of the SIMD levels this CPU supports: bit `RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`,
+/// `RSL_SIMD_AVX512` (e.g. `(rsl_batch_simd_support() >> RSL_SIMD_AVX2) & 1`).
+#[no_mangle]
+pub extern "C" fn rsl_batch_simd_support() -> u32 {
+    [Simd::Scalar, Simd::Avx2, Simd::Avx512]
+        .into_iter()
+        .filter(|s| s.available())
+        .fold(0, |bits, s| bits | 1 << s.code())
+}
+
+/// The scene kernel a model would run in a batch (0: generic; `rsl_batch_report.scene` gives
+/// the one that ran): 1 full law set, exact transport (objective); 2 full law set, LAMMPS_2021;
+/// 3 sliding only, exact; 4 sliding + rolling, exact; 5 sliding only, LAMMPS_2021. Writes
+/// `*scene` on success.
+///
+/// # Safety
+/// `model` must be a live model; `scene` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_scene(model: *const rsl_model, scene: *mut u32) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract; helpers check NULL and alignment.
+        let (m, out) = unsafe { (live_model(model)?, output(scene, "scene")?) };
+        *out = Scene::classify(&m.model) as u32;
+        Ok(())
+    })
+}

@@ -1,0 +1,646 @@
+//! Batch kernels against the per-contact checked step: every precision, SIMD level and scene
+//! kernel; accumulation into particle arrays; skipping of invalid contacts; decomposition.
+
+mod common;
+
+use common::Rng;
+use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene};
+use rollslide::capi::batch::rsl_batch_loads;
+use rollslide::capi::batch::{run_decompose, run_step, BatchConfig, Simd};
+use rollslide::capi::contact::rsl_contact_state;
+use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
+use rollslide::decompose::{decompose_pair, Parts, Sphere};
+use rollslide::error::Error;
+use rollslide::laws::checked::contact_step_pair;
+use rollslide::laws::model::{Model, Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
+use rollslide::laws::step::{ContactState, StepInput};
+use rollslide::GeometryOptions;
+
+fn v(x: rollslide::scalar::Vec3<f64>) -> rsl_vec3 {
+    rsl_vec3 {
+        x: x.x,
+        y: x.y,
+        z: x.z,
+    }
+}
+
+/// Full law set (sliding + EPSD rolling + sds twisting) on a preset; `slip` makes the limits
+/// bite on a good part of the contacts.
+fn full_model(preset: Preset, transport: Transport) -> Model {
+    let mut m = Model::with_preset(preset);
+    m.sliding.law = SlidingLaw::Linear;
+    m.sliding.stiffness = 2.0e5;
+    m.sliding.damping = 30.0;
+    m.sliding.friction = 0.5;
+    m.rolling.law = RollingLaw::Epsd;
+    m.rolling.stiffness = 1.0e5;
+    m.rolling.damping = 10.0;
+    m.rolling.friction = 0.1;
+    m.twisting.law = TwistingLaw::Sds;
+    m.twisting.stiffness = 50.0;
+    m.twisting.damping = 0.5;
+    m.twisting.friction = 0.05;
+    m.sliding_transport = transport;
+    m.rolling_transport = transport;
+    m
+}
+
+/// The models of every scene kernel, plus two that run the generic kernel.
+fn models() -> Vec<(Model, Scene)> {
+    let full = full_model(Preset::Objective, Transport::Exact);
+    let lammps = full_model(Preset::Lammps2021, Transport::ProjectRescale);
+    let mut sliding = full;
+    sliding.rolling.law = RollingLaw::None;
+    sliding.twisting.law = TwistingLaw::None;
+    let mut slide_roll = full;
+    slide_roll.twisting.law = TwistingLaw::None;
+    let mut sliding_lammps = lammps;
+    sliding_lammps.rolling.law = RollingLaw::None;
+    sliding_lammps.twisting.law = TwistingLaw::None;
+    let mut yade = full_model(Preset::Yade2023, Transport::FirstOrder);
+    yade.rolling.form = rollslide::laws::model::RollingForm::Angle;
+    let mut viscous = full;
+    viscous.rolling.law = RollingLaw::Viscous;
+    viscous.sliding_transport = Transport::FirstOrder;
+    vec![
+        (full, Scene::FullExact),
+        (lammps, Scene::FullLammps),
+        (sliding, Scene::SlidingExact),
+        (slide_roll, Scene::SlidingRollingExact),
+        (sliding_lammps, Scene::SlidingLammps),
+        (yade, Scene::Generic),
+        (viscous, Scene::Generic),
+    ]
+}
+
+/// Loads (force1, torque1, torque2) of one contact; `None` when the checked step refused it.
+type Loads = Option<[rollslide::scalar::Vec3<f64>; 3]>;
+/// A predicate on an error.
+type ErrorCheck = fn(&Error) -> bool;
+
+struct Scenario {
+    particles: Vec<rsl_sphere>,
+    pairs: Vec<[u32; 2]>,
+    normal_force: Vec<f64>,
+    states: Vec<rsl_contact_state>,
+}
+
+/// Overlapping pairs among `np` particles with random velocities and spins, and half of the
+/// contacts carrying a history (a previous normal a little off the current one).
+fn scenario(np: usize, nc: usize, seed: u64) -> Scenario {
+    let mut rng = Rng::new(seed);
+    let mut particles: Vec<rsl_sphere> = (0..np)
+        .map(|_| rsl_sphere {
+            position: v(rng.vec(10.0)),
+            velocity: v(rng.vec(0.5)),
+            angular_velocity: v(rng.vec(3.0)),
+            radius: rng.uniform(0.8, 1.2),
+        })
+        .collect();
+    let mut pairs = Vec::new();
+    for c in 0..nc {
+        let i = (rng.next_u64() % np as u64) as u32;
+        let mut j = (rng.next_u64() % np as u64) as u32;
+        if j == i {
+            j = (i + 1) % np as u32;
+        }
+        // Place j in contact with i (later contacts may move it again: only the final
+        // positions matter, and they keep |r_i - r_j| < R_i + R_j for the last pair placed).
+        if c % 3 != 0 {
+            let (a, b) = (particles[i as usize], particles[j as usize]);
+            let n = rng.unit();
+            let d = (a.radius + b.radius) * rng.uniform(0.95, 0.999);
+            particles[j as usize].position = rsl_vec3 {
+                x: a.position.x + d * n.x,
+                y: a.position.y + d * n.y,
+                z: a.position.z + d * n.z,
+            };
+        }
+        pairs.push([i, j]);
+    }
+    let normal_force = (0..nc).map(|_| rng.uniform(0.0, 100.0)).collect();
+    let states = (0..nc)
+        .map(|c| {
+            let mut s = rsl_contact_state::default();
+            if c % 2 == 0 {
+                let [i, j] = pairs[c];
+                let (a, b) = (particles[i as usize], particles[j as usize]);
+                let d = rollslide::scalar::Vec3::new(
+                    b.position.x - a.position.x,
+                    b.position.y - a.position.y,
+                    b.position.z - a.position.z,
+                );
+                let n = (d.normalize() + rng.vec(0.01)).normalize();
+                s.previous_normal = v(n);
+                let t = rng.vec(1e-4);
+                s.sliding_spring = v(t - n * t.dot(&n));
+                let r = rng.vec(1e-5);
+                s.rolling_spring = v(r - n * r.dot(&n));
+                s.twisting_angle = rng.uniform(-1e-3, 1e-3);
+            }
+            s
+        })
+        .collect();
+    Scenario {
+        particles,
+        pairs,
+        normal_force,
+        states,
+    }
+}
+
+fn configs() -> Vec<BatchConfig> {
+    let mut out = Vec::new();
+    for simd in [Simd::Scalar, Simd::Avx2, Simd::Avx512] {
+        if !simd.available() {
+            eprintln!("note: {simd:?} not available on this CPU, not tested");
+            continue;
+        }
+        for f32 in [false, true] {
+            for specialise in [true, false] {
+                out.push(BatchConfig {
+                    f32,
+                    simd,
+                    specialise,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Per-contact checked steps: the reference loads per contact and new states.
+fn reference(model: &Model, sc: &Scenario, dt: f64) -> (Vec<Loads>, Vec<ContactState<f64>>) {
+    let mut loads = Vec::new();
+    let mut states = Vec::new();
+    for (c, [i, j]) in sc.pairs.iter().enumerate() {
+        let b1 = Sphere::from(&sc.particles[*i as usize]);
+        let b2 = Sphere::from(&sc.particles[*j as usize]);
+        let mut s = ContactState::from(&sc.states[c]);
+        let r = contact_step_pair(
+            model,
+            &b1,
+            &b2,
+            &StepInput::new(sc.normal_force[c], dt),
+            &mut s,
+        );
+        loads.push(
+            r.ok()
+                .map(|o| [o.loads.force1, o.loads.torque1, o.loads.torque2]),
+        );
+        states.push(s);
+    }
+    (loads, states)
+}
+
+fn close(a: f64, b: f64, abs: f64, rel: f64) -> bool {
+    (a - b).abs() <= abs + rel * b.abs()
+}
+
+/// Contact-major batch = per-contact checked step. Double precision: bitwise equal for every
+/// SIMD level (no FMA contraction in Rust, sqrt and division correctly rounded, the lanes run
+/// the same operations in the same order), checked with tolerance 0. Single precision: within
+/// 2e-4 of each quantity's scale over the contacts (f32 epsilon 6e-8 amplified by the
+/// cancellation of the branch-rate terms and the clip's normalisation: measured ~1e-5).
+#[test]
+fn contact_major_matches_per_contact_step() {
+    let dt = 1e-4;
+    for (model, scene) in models() {
+        assert_eq!(
+            Scene::classify(&model),
+            scene,
+            "classification of {model:?}"
+        );
+        let sc = scenario(64, 203, 7);
+        let (ref_loads, ref_states) = reference(&model, &sc, dt);
+        let body1: Vec<rsl_sphere> = sc
+            .pairs
+            .iter()
+            .map(|p| sc.particles[p[0] as usize])
+            .collect();
+        let body2: Vec<rsl_sphere> = sc
+            .pairs
+            .iter()
+            .map(|p| sc.particles[p[1] as usize])
+            .collect();
+        for config in configs() {
+            let mut states = sc.states.clone();
+            let mut out = vec![rsl_batch_loads::default(); sc.pairs.len()];
+            let mut access = ContactSteps {
+                body1: &body1,
+                body2: &body2,
+                normal_force: &sc.normal_force,
+                normal_stiffness: None,
+                states: &mut states,
+                out: &mut out,
+            };
+            let (report, ran) = run_step(&model, dt, &mut access, config).unwrap();
+            assert_eq!(report.failed, 0, "{config:?}: {:?}", report.first_error);
+            assert_eq!(
+                ran,
+                if config.specialise {
+                    scene
+                } else {
+                    Scene::Generic
+                }
+            );
+            let (abs, rel) = if config.f32 { (2e-4, 2e-4) } else { (0.0, 0.0) };
+            let scale_f = sc.normal_force.iter().cloned().fold(0.0, f64::max);
+            for (c, l) in ref_loads.iter().enumerate() {
+                let l = l.expect("valid contact");
+                let got = [out[c].force1, out[c].torque1, out[c].torque2];
+                for k in 0..3 {
+                    for (a, b) in [(got[k].x, l[k].x), (got[k].y, l[k].y), (got[k].z, l[k].z)] {
+                        assert!(
+                            close(a, b, abs * scale_f, rel),
+                            "{config:?} {scene:?} contact {c} load {k}: {a} vs {b}"
+                        );
+                    }
+                }
+                let s = ContactState::from(&states[c]);
+                let r = &ref_states[c];
+                let springs = [
+                    (s.sliding_spring, r.sliding_spring, 1e-3),
+                    (s.rolling_spring, r.rolling_spring, 1e-3),
+                    (s.previous_normal, r.previous_normal, 1.0),
+                ];
+                for (a, b, scale) in springs {
+                    assert!(
+                        (a - b).norm() <= abs * scale + rel * b.norm(),
+                        "{config:?} {scene:?} contact {c} state {a} vs {b}"
+                    );
+                }
+                assert!(close(s.twisting_angle, r.twisting_angle, abs * 1e-3, rel));
+            }
+        }
+    }
+}
+
+/// Particle-major: the accumulated forces and torques equal the sums of the per-contact loads
+/// (in contact order); the SIMD levels give the same sums as the scalar kernel bitwise in
+/// double precision.
+#[test]
+fn particle_major_accumulates_per_contact_loads() {
+    let dt = 1e-4;
+    let (model, _) = models()[0];
+    let sc = scenario(50, 300, 11);
+    let (ref_loads, _) = reference(&model, &sc, dt);
+    let np = sc.particles.len();
+    let mut f_ref = vec![rollslide::scalar::Vec3::<f64>::zeros(); np];
+    let mut t_ref = f_ref.clone();
+    for (c, [i, j]) in sc.pairs.iter().enumerate() {
+        let l = ref_loads[c].unwrap();
+        f_ref[*i as usize] += l[0];
+        f_ref[*j as usize] -= l[0];
+        t_ref[*i as usize] += l[1];
+        t_ref[*j as usize] += l[2];
+    }
+    for config in configs() {
+        let mut states = sc.states.clone();
+        let start = rsl_vec3 {
+            x: 1.0,
+            y: -2.0,
+            z: 0.5,
+        };
+        let mut force = vec![start; np];
+        let mut torque = vec![rsl_vec3::default(); np];
+        let mut access = ParticleSteps {
+            particles: &sc.particles,
+            pairs: &sc.pairs,
+            normal_force: &sc.normal_force,
+            normal_stiffness: None,
+            states: &mut states,
+            force: &mut force,
+            torque: &mut torque,
+        };
+        access.check().unwrap();
+        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        assert_eq!(report.processed, sc.pairs.len());
+        let tol = if config.f32 { 1e-3 } else { 0.0 };
+        for p in 0..np {
+            let f =
+                rollslide::scalar::Vec3::new(force[p].x - 1.0, force[p].y + 2.0, force[p].z - 0.5);
+            // Accumulated on top of the initial value: compare the increments (the start value
+            // adds one rounding per component, hence the tiny absolute tolerance).
+            assert!(
+                (f - f_ref[p]).norm() <= tol * 100.0 + 1e-12,
+                "{config:?} particle {p}"
+            );
+            let t = rollslide::scalar::Vec3::new(torque[p].x, torque[p].y, torque[p].z);
+            assert!(
+                (t - t_ref[p]).norm() <= tol * 100.0,
+                "{config:?} particle {p}: {t} vs {}",
+                t_ref[p]
+            );
+        }
+    }
+}
+
+/// Many steps of an evolving scene: scalar and SIMD kernels keep identical histories (double),
+/// and the single-precision histories stay within 1e-4 relative of the double ones.
+#[test]
+fn repeated_steps_scalar_and_simd_agree() {
+    let dt = 1e-4;
+    let (model, _) = models()[1];
+    let sc = scenario(40, 120, 3);
+    let run = |config: BatchConfig| {
+        let mut states = sc.states.clone();
+        let mut particles = sc.particles.clone();
+        for step in 0..200 {
+            let mut force = vec![rsl_vec3::default(); particles.len()];
+            let mut torque = force.clone();
+            let mut access = ParticleSteps {
+                particles: &particles,
+                pairs: &sc.pairs,
+                normal_force: &sc.normal_force,
+                normal_stiffness: None,
+                states: &mut states,
+                force: &mut force,
+                torque: &mut torque,
+            };
+            let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+            assert_eq!(report.failed, 0, "step {step}");
+            // Move the particles rigidly a little so the normals turn.
+            for p in particles.iter_mut() {
+                p.position.x += p.velocity.x * dt;
+                p.position.y += p.velocity.y * dt;
+                p.position.z += p.velocity.z * dt;
+            }
+        }
+        states
+    };
+    let scalar = run(BatchConfig {
+        f32: false,
+        simd: Simd::Scalar,
+        specialise: true,
+    });
+    for config in configs() {
+        let got = run(config);
+        for (c, (a, b)) in got.iter().zip(&scalar).enumerate() {
+            let (a, b) = (ContactState::from(a), ContactState::from(b));
+            let tol = if config.f32 {
+                1e-4 * b.sliding_spring.norm().max(1e-6)
+            } else {
+                0.0
+            };
+            assert!(
+                (a.sliding_spring - b.sliding_spring).norm() <= tol,
+                "{config:?} contact {c}: {} vs {}",
+                a.sliding_spring,
+                b.sliding_spring
+            );
+        }
+    }
+}
+
+/// Invalid contacts are skipped in one pass: their state and loads are untouched, every other
+/// contact is processed, and the report names the first failure with the per-contact error.
+#[test]
+fn invalid_contacts_are_skipped_and_reported() {
+    let dt = 1e-4;
+    let (model, _) = models()[0];
+    let mut sc = scenario(30, 100, 5);
+    let np = sc.particles.len() as u32;
+    // Contact 13: index out of range; 20: negative normal force; 41: NaN state;
+    // 57: coincident centres (i == j); 80: infinite velocity of a private particle.
+    sc.pairs[13] = [np + 5, 0];
+    sc.normal_force[20] = -1.0;
+    sc.states[41].sliding_spring.y = f64::NAN;
+    sc.pairs[57] = [3, 3];
+    sc.particles.push(rsl_sphere {
+        position: sc.particles[0].position,
+        velocity: rsl_vec3 {
+            x: f64::INFINITY,
+            y: 0.0,
+            z: 0.0,
+        },
+        angular_velocity: rsl_vec3::default(),
+        radius: 1.0,
+    });
+    sc.pairs[80] = [np, 1];
+    let bad = [13usize, 20, 41, 57, 80];
+    let body = |c: usize, k: usize| {
+        sc.particles
+            .get(sc.pairs[c][k] as usize)
+            .copied()
+            .unwrap_or_default()
+    };
+    let body1: Vec<rsl_sphere> = (0..sc.pairs.len()).map(|c| body(c, 0)).collect();
+    let body2: Vec<rsl_sphere> = (0..sc.pairs.len()).map(|c| body(c, 1)).collect();
+    for config in configs() {
+        let mut states = sc.states.clone();
+        let sentinel = rsl_batch_loads {
+            force1: rsl_vec3 {
+                x: 7.0,
+                y: 7.0,
+                z: 7.0,
+            },
+            ..Default::default()
+        };
+        let mut out = vec![sentinel; sc.pairs.len()];
+        let mut access = ParticleSteps {
+            particles: &sc.particles,
+            pairs: &sc.pairs,
+            normal_force: &sc.normal_force,
+            normal_stiffness: None,
+            states: &mut states,
+            force: &mut vec![rsl_vec3::default(); sc.particles.len()],
+            torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
+        };
+        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        assert_eq!(report.failed, bad.len(), "{config:?}");
+        assert_eq!(report.processed, sc.pairs.len() - bad.len());
+        assert_eq!(report.first_failed, Some(13));
+        assert!(matches!(
+            report.first_error,
+            Some(Error::InvalidArgument(_))
+        ));
+        for c in bad {
+            assert_eq!(
+                format!("{:?}", states[c]),
+                format!("{:?}", sc.states[c]),
+                "state of bad contact {c} changed"
+            );
+        }
+        for c in [0usize, 14, 99] {
+            assert_ne!(states[c], sc.states[c], "valid contact {c} not stepped");
+        }
+
+        // Contact-major: same skipping; outputs of bad contacts untouched.
+        let mut states = sc.states.clone();
+        let mut access = ContactSteps {
+            body1: &body1,
+            body2: &body2,
+            normal_force: &sc.normal_force,
+            normal_stiffness: None,
+            states: &mut states,
+            out: &mut out,
+        };
+        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        // Contact 13's default (zero-radius) body fails as an invalid radius here.
+        assert_eq!(report.failed, bad.len(), "{config:?}");
+        assert_eq!(report.first_failed, Some(13));
+        assert!(matches!(report.first_error, Some(Error::InvalidRadius(_))));
+        for c in bad {
+            assert_eq!(out[c], sentinel);
+        }
+        assert_ne!(out[0], sentinel);
+    }
+    // The per-contact errors of the others, one at a time.
+    let cases: [(usize, ErrorCheck); 4] = [
+        (20, |e| *e == Error::NegativeNormalForce),
+        (41, |e| matches!(e, Error::NonFinite(_))),
+        (57, |e| *e == Error::CoincidentCentres),
+        (80, |e| matches!(e, Error::NonFinite(_))),
+    ];
+    for (c, is) in cases {
+        let pairs = [sc.pairs[c]];
+        let mut states = [sc.states[c]];
+        let mut access = ParticleSteps {
+            particles: &sc.particles,
+            pairs: &pairs,
+            normal_force: &sc.normal_force[c..c + 1],
+            normal_stiffness: None,
+            states: &mut states,
+            force: &mut vec![rsl_vec3::default(); sc.particles.len()],
+            torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
+        };
+        let (report, _) = run_step(&model, dt, &mut access, configs()[0]).unwrap();
+        assert!(
+            is(report.first_error.as_ref().unwrap()),
+            "contact {c}: {:?}",
+            report.first_error
+        );
+    }
+}
+
+/// Call-level errors: bad time step, model refused by the batch.
+#[test]
+fn call_level_errors_process_nothing() {
+    let (model, _) = models()[0];
+    let sc = scenario(10, 10, 1);
+    let mut states = sc.states.clone();
+    let mut force = vec![rsl_vec3::default(); 10];
+    let mut torque = force.clone();
+    let mut access = ParticleSteps {
+        particles: &sc.particles,
+        pairs: &sc.pairs,
+        normal_force: &sc.normal_force,
+        normal_stiffness: None,
+        states: &mut states,
+        force: &mut force,
+        torque: &mut torque,
+    };
+    let config = configs()[0];
+    assert_eq!(
+        run_step(&model, 0.0, &mut access, config).unwrap_err(),
+        Error::InvalidTimeStep
+    );
+    let mut ratio = model;
+    ratio.rolling.damping_rule = rollslide::laws::model::RollingDamping::Ratio;
+    assert!(run_step(&ratio, 1e-4, &mut access, config).is_err());
+    assert_eq!(states, sc.states);
+}
+
+/// Decomposition batches equal `decompose_pair` (double: bitwise; single: rates within 1e-5 of
+/// their scale, geometry bitwise since it is computed in double), invalid contacts skipped.
+#[test]
+fn decompose_batch_matches_decompose_pair() {
+    let mut sc = scenario(40, 150, 9);
+    sc.pairs[7] = [2, 2];
+    for options in [
+        GeometryOptions::default(),
+        GeometryOptions {
+            branch_rule: rollslide::BranchRule::Radii,
+            rolling_radius: rollslide::RollingRadiusRule::Effective,
+        },
+    ] {
+        for config in configs() {
+            let mut out = vec![rsl_decomposition::default(); sc.pairs.len()];
+            let mut access = ParticleDecompose {
+                particles: &sc.particles,
+                pairs: &sc.pairs,
+                out: &mut out,
+            };
+            let report = run_decompose(options, Parts::ALL, &mut access, config).unwrap();
+            assert_eq!(report.failed, 1);
+            assert_eq!(report.first_failed, Some(7));
+            assert_eq!(report.first_error, Some(Error::CoincidentCentres));
+            assert_eq!(out[7], rsl_decomposition::default());
+            for (c, [i, j]) in sc.pairs.iter().enumerate().filter(|(c, _)| *c != 7) {
+                let d = decompose_pair(
+                    &Sphere::from(&sc.particles[*i as usize]),
+                    &Sphere::from(&sc.particles[*j as usize]),
+                    options,
+                    Parts::ALL,
+                )
+                .unwrap();
+                let want = rsl_decomposition::from(&d);
+                let got = out[c];
+                assert_eq!(got.normal, want.normal);
+                assert_eq!(got.overlap, want.overlap);
+                assert_eq!(got.branch1, want.branch1);
+                let tol = if config.f32 { 1e-5 * 30.0 } else { 0.0 };
+                for (a, b) in [
+                    (got.sliding_velocity, want.sliding_velocity),
+                    (got.rolling_velocity, want.rolling_velocity),
+                    (got.tumbling, want.tumbling),
+                    (got.objective_velocity1, want.objective_velocity1),
+                ] {
+                    for (x, y) in [(a.x, b.x), (a.y, b.y), (a.z, b.z)] {
+                        assert!((x - y).abs() <= tol, "{config:?} contact {c}: {x} vs {y}");
+                    }
+                }
+                assert!((got.twisting_rate - want.twisting_rate).abs() <= tol);
+            }
+        }
+    }
+}
+
+/// A contact whose centre distance is so small that its square underflows (found by fuzzing
+/// the scalar path) is refused by every kernel, as `decompose_pair` refuses it, and the other
+/// contacts of the batch are stepped.
+#[test]
+fn underflowing_centre_distance_is_refused_in_every_kernel() {
+    let dt = 1e-4;
+    let (model, _) = models()[0];
+    let sc = scenario(30, 17, 9);
+    let body = |c: usize, k: usize| sc.particles[sc.pairs[c][k] as usize];
+    let mut body1: Vec<rsl_sphere> = (0..sc.pairs.len()).map(|c| body(c, 0)).collect();
+    let mut body2: Vec<rsl_sphere> = (0..sc.pairs.len()).map(|c| body(c, 1)).collect();
+    let tiny = 9;
+    body1[tiny] = rsl_sphere {
+        radius: 0.6e-160,
+        ..Default::default()
+    };
+    body2[tiny] = rsl_sphere {
+        position: rsl_vec3 {
+            x: 1e-160,
+            y: 0.0,
+            z: 0.0,
+        },
+        radius: 0.6e-160,
+        ..Default::default()
+    };
+    for config in configs() {
+        let mut states = sc.states.clone();
+        let mut out = vec![rsl_batch_loads::default(); sc.pairs.len()];
+        let mut access = ContactSteps {
+            body1: &body1,
+            body2: &body2,
+            normal_force: &sc.normal_force,
+            normal_stiffness: None,
+            states: &mut states,
+            out: &mut out,
+        };
+        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        assert_eq!(report.failed, 1, "{config:?}");
+        assert_eq!(report.first_failed, Some(tiny), "{config:?}");
+        assert!(matches!(
+            report.first_error,
+            Some(Error::InvalidArgument(_))
+        ));
+        assert_eq!(states[tiny], sc.states[tiny]);
+        assert_eq!(report.processed, sc.pairs.len() - 1);
+    }
+}
