@@ -176,8 +176,17 @@ fn check_branches<T: RealField + Copy>(g: &ContactGeometry<T>) -> Result<(), Err
     Ok(())
 }
 
+/// True when `n` has unit length to rounding. It fails only when the length it was divided by
+/// was computed inaccurately: a vector below `sqrt(MIN_POSITIVE)` (~1.5e-154 in f64) whose
+/// squared components underflow into subnormal numbers (found by fuzzing: centres 1e-160 apart
+/// gave |n| = 1.3).
+fn is_unit<T: RealField + Copy>(n: &Vec3<T>) -> bool {
+    (n.norm_squared() - T::one()).abs() <= lit::<T>(16.0) * T::default_epsilon()
+}
+
 /// Geometry of a sphere pair with every check of kinematics.md section 7: finite input,
-/// radii > 0, `d >= eps (R1 + R2)`, `l1, l2 > 0`.
+/// radii > 0, `d >= eps (R1 + R2)`, a normal of unit length (`d` above ~1.5e-154 in f64),
+/// `l1, l2 > 0`.
 pub fn pair_geometry<T: RealField + Copy>(
     r1: &Vec3<T>,
     r2: &Vec3<T>,
@@ -197,6 +206,13 @@ pub fn pair_geometry<T: RealField + Copy>(
         return Err(Error::CoincidentCentres);
     }
     let g = pair_geometry_unchecked(r1, r2, radius1, radius2, options);
+    if !is_unit(&g.normal) {
+        return Err(Error::InvalidArgument(
+            "centre distance too small for a unit normal (its square underflows, below \
+             ~1.5e-154): rescale the lengths"
+                .to_string(),
+        ));
+    }
     check_branches(&g)?;
     Ok(g)
 }
@@ -223,6 +239,12 @@ pub fn wall_geometry<T: RealField + Copy>(
         ));
     }
     let unit = wall_normal / len;
+    if !is_unit(&unit) {
+        return Err(Error::InvalidArgument(
+            "wall normal must be a non-zero vector longer than ~1.5e-154 (its square underflows)"
+                .to_string(),
+        ));
+    }
     let g = wall_geometry_unchecked(r1, radius1, wall_point, &unit, options);
     if !g.overlap.is_finite() {
         return Err(Error::NonFinite("wall overlap (overflow)"));

@@ -33,8 +33,15 @@ pub fn legacy_rolling<T: RealField + Copy>(
     let io = (body1.angular_velocity * body1.radius - body2.angular_velocity * body2.radius)
         .cross(&n)
         * half;
-    Ok(LegacyRolling {
+    let out = LegacyRolling {
         kuhn_bagi: tangential(&mean, &n),
         iwashita_oda: io,
-    })
+    };
+    // R_k w_k can overflow where the decomposition itself did not (found by fuzzing).
+    if !(out.kuhn_bagi.iter().all(|x| x.is_finite())
+        && out.iwashita_oda.iter().all(|x| x.is_finite()))
+    {
+        return Err(Error::NonFinite("result overflowed (inputs too large)"));
+    }
+    Ok(out)
 }

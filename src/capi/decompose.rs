@@ -9,7 +9,7 @@ use super::types::{
 use super::{guard, input, optional_input, output};
 use crate::decompose::{decompose_pair, decompose_wall, Parts, Sphere, Wall};
 use crate::error::Error;
-use crate::geometry::{BranchRule, GeometryOptions, RollingRadiusRule};
+use crate::geometry::{check_finite_vec, BranchRule, GeometryOptions, RollingRadiusRule};
 use crate::inverse::{compose_pair, compose_wall};
 use crate::legacy::legacy_rolling;
 
@@ -174,28 +174,51 @@ pub unsafe extern "C" fn rsl_decompose_wall(
     })
 }
 
-/// Checks a decomposition handed back by the caller before inverting it.
+/// Checks a decomposition handed back by the caller before inverting it. Every field must be
+/// finite (a wall's `distance` and `branch2` may be +inf, as `rsl_decompose_wall` gives them);
+/// a non-finite one is named in the error.
 fn check_for_inverse(d: &rsl_decomposition, wall: bool) -> Result<(), Error> {
-    let v = |x: &super::types::rsl_vec3| x.x.is_finite() && x.y.is_finite() && x.z.is_finite();
-    let finite = v(&d.normal)
-        && v(&d.contact_point)
-        && v(&d.sliding_velocity)
-        && v(&d.rolling_velocity)
-        && v(&d.contact_velocity)
-        && v(&d.tumbling)
-        && d.branch1.is_finite()
-        && d.rolling_radius.is_finite()
-        && d.normal_rate.is_finite()
-        && d.twisting_rate.is_finite()
-        && d.frame_spin.is_finite()
-        && (wall || (d.distance.is_finite() && d.branch2.is_finite()));
-    if !finite {
-        return Err(Error::NonFinite("decomposition field"));
+    use super::types::rsl_vec3;
+    let vecs: [(&rsl_vec3, &'static str); 8] = [
+        (&d.normal, "decomposition.normal"),
+        (&d.contact_point, "decomposition.contact_point"),
+        (&d.sliding_velocity, "decomposition.sliding_velocity"),
+        (&d.rolling_velocity, "decomposition.rolling_velocity"),
+        (&d.contact_velocity, "decomposition.contact_velocity"),
+        (&d.tumbling, "decomposition.tumbling"),
+        (&d.objective_velocity1, "decomposition.objective_velocity1"),
+        (&d.objective_velocity2, "decomposition.objective_velocity2"),
+    ];
+    for (v, what) in vecs {
+        if !(v.x.is_finite() && v.y.is_finite() && v.z.is_finite()) {
+            return Err(Error::NonFinite(what));
+        }
+    }
+    let scalars: [(f64, &'static str); 6] = [
+        (d.overlap, "decomposition.overlap"),
+        (d.branch1, "decomposition.branch1"),
+        (d.rolling_radius, "decomposition.rolling_radius"),
+        (d.normal_rate, "decomposition.normal_rate"),
+        (d.twisting_rate, "decomposition.twisting_rate"),
+        (d.frame_spin, "decomposition.frame_spin"),
+    ];
+    for (x, what) in scalars {
+        if !x.is_finite() {
+            return Err(Error::NonFinite(what));
+        }
+    }
+    for (x, what) in [
+        (d.distance, "decomposition.distance"),
+        (d.branch2, "decomposition.branch2"),
+    ] {
+        if !(x.is_finite() || (wall && x == f64::INFINITY)) {
+            return Err(Error::NonFinite(what));
+        }
     }
     let len = (d.normal.x * d.normal.x + d.normal.y * d.normal.y + d.normal.z * d.normal.z).sqrt();
     if (len - 1.0).abs() > 1e-10 {
         return Err(Error::InvalidArgument(format!(
-            "normal must be unit (|n| = {len})"
+            "decomposition.normal must be unit (|n| = {len})"
         )));
     }
     if !(d.branch1 > 0.0 && d.branch2 > 0.0 && d.rolling_radius > 0.0 && d.distance > 0.0) {
@@ -236,6 +259,14 @@ pub unsafe extern "C" fn rsl_compose(
         let (geometry, _) = parse_options(opts)?;
         check_for_inverse(d, false)?;
         let v = compose_pair(&d.to_core(branch_rate_factor(&geometry)));
+        for x in [
+            v.velocity1,
+            v.angular_velocity1,
+            v.velocity2,
+            v.angular_velocity2,
+        ] {
+            check_finite_vec(&x, "result overflowed (inputs too large)")?;
+        }
         *out = rsl_pair_velocities {
             velocity1: v.velocity1.into(),
             angular_velocity1: v.angular_velocity1.into(),
@@ -269,6 +300,14 @@ pub unsafe extern "C" fn rsl_compose_wall(
         let (geometry, _) = parse_options(opts)?;
         check_for_inverse(d, true)?;
         let v = compose_wall(&d.to_core(branch_rate_factor(&geometry)));
+        for x in [
+            v.velocity1,
+            v.angular_velocity1,
+            v.wall_angular_velocity,
+            v.wall_contact_velocity,
+        ] {
+            check_finite_vec(&x, "result overflowed (inputs too large)")?;
+        }
         *out = rsl_wall_velocities {
             velocity1: v.velocity1.into(),
             angular_velocity1: v.angular_velocity1.into(),

@@ -8,9 +8,9 @@ use crate::laws::model::{Model, Preset, RollingDamping, RollingLaw, RollingStiff
 use crate::laws::step::{contact_step_unchecked, ContactState, Partner, StepInput, StepOutput};
 use nalgebra::RealField;
 
-fn finite_nonneg<T: RealField + Copy>(x: T, what: &str) -> Result<(), Error> {
+fn finite_nonneg<T: RealField + Copy>(x: T, what: &'static str) -> Result<(), Error> {
     if !x.is_finite() {
-        return Err(Error::InvalidArgument(format!("{what} must be finite")));
+        return Err(Error::NonFinite(what));
     }
     if x < T::zero() {
         return Err(Error::InvalidArgument(format!("{what} must be >= 0")));
@@ -72,13 +72,18 @@ fn check_input<T: RealField + Copy>(
         (input.twisting_friction, "twisting_friction"),
     ] {
         if let Some(x) = value {
-            if matches!(
-                x.partial_cmp(&T::zero()),
-                None | Some(std::cmp::Ordering::Less)
-            ) {
-                return Err(Error::InvalidArgument(format!(
-                    "{what} must be >= 0 (or +inf for no limit)"
-                )));
+            // +inf means "no limit"; NaN and -inf are non-finite input.
+            match x.partial_cmp(&T::zero()) {
+                None => return Err(Error::NonFinite(what)),
+                Some(std::cmp::Ordering::Less) if !x.is_finite() => {
+                    return Err(Error::NonFinite(what))
+                }
+                Some(std::cmp::Ordering::Less) => {
+                    return Err(Error::InvalidArgument(format!(
+                        "{what} must be >= 0 (or +inf for no limit)"
+                    )))
+                }
+                _ => {}
             }
         }
     }
@@ -122,8 +127,28 @@ fn check_output<T: RealField + Copy>(
         (&l.force1, "force"),
         (&l.torque1, "torque on body 1"),
         (&l.torque2, "torque on body 2"),
+        (&out.sliding_force, "sliding force"),
+        (&out.rolling_moment, "rolling moment"),
+        (&out.twisting_torque, "twisting torque"),
     ] {
         check_finite_vec(v, what).map_err(|_| Error::NonFinite("result overflowed"))?;
+    }
+    // Every reported energy term too: a huge but finite spring can square to +inf.
+    let e = &out.energy;
+    let energies = [
+        e.sliding.elastic,
+        e.sliding.dashpot,
+        e.sliding.slider,
+        e.rolling.elastic,
+        e.rolling.dashpot,
+        e.rolling.slider,
+        e.twisting.elastic,
+        e.twisting.dashpot,
+        e.twisting.slider,
+        e.transport,
+    ];
+    if !energies.iter().all(|x| x.is_finite()) {
+        return Err(Error::NonFinite("result overflowed (energy terms)"));
     }
     check_state(state).map_err(|_| Error::NonFinite("new state overflowed"))
 }

@@ -3,12 +3,24 @@
 
 use crate::error::Error;
 
-fn check(x: f64, what: &str, allow_infinite: bool) -> Result<(), Error> {
+fn check(x: f64, what: &'static str, allow_infinite: bool) -> Result<(), Error> {
+    if x.is_nan() || (x.is_infinite() && !(allow_infinite && x > 0.0)) {
+        return Err(Error::NonFinite(what));
+    }
     let ok = x > 0.0 && (x.is_finite() || (allow_infinite && x == f64::INFINITY));
     if ok {
         Ok(())
     } else {
         Err(Error::InvalidArgument(format!("{what} = {x} must be > 0")))
+    }
+}
+
+/// Refuses a bound that under- or overflowed (extreme but finite inputs): never `Ok(inf)`.
+fn finite_result(dt: f64) -> Result<f64, Error> {
+    if dt.is_finite() && dt > 0.0 {
+        Ok(dt)
+    } else {
+        Err(Error::NonFinite("result overflowed (inputs too extreme)"))
     }
 }
 
@@ -26,14 +38,19 @@ pub fn rotational_critical_time_step(
     check(k_theta, "k_theta", false)?;
     check(inertia1, "inertia1", false)?;
     check(inertia2, "inertia2", true)?;
-    if !(damping_ratio.is_finite() && damping_ratio >= 0.0) {
+    if !damping_ratio.is_finite() {
+        return Err(Error::NonFinite("damping_ratio"));
+    }
+    if damping_ratio < 0.0 {
         return Err(Error::InvalidArgument(format!(
             "damping_ratio = {damping_ratio} must be finite and >= 0"
         )));
     }
     let w0 = (k_theta * (1.0 / inertia1 + 1.0 / inertia2)).sqrt();
     let z = damping_ratio;
-    Ok((2.0 / w0) * ((1.0 + z * z).sqrt() - z))
+    // sqrt(1 + z^2) - z written as 1/(sqrt(1 + z^2) + z): no cancellation for large z (the
+    // difference form loses every digit from z ~ 1e8 on and returns 0 there).
+    finite_result((2.0 / w0) / ((1.0 + z * z).sqrt() + z))
 }
 
 /// Stable time step bound with the sliding spring coupled to the rotational one:
@@ -54,7 +71,10 @@ pub fn coupled_critical_time_step(
     l2: f64,
 ) -> Result<f64, Error> {
     for (x, what) in [(k_t, "k_t"), (k_theta, "k_theta")] {
-        if !(x.is_finite() && x >= 0.0) {
+        if !x.is_finite() {
+            return Err(Error::NonFinite(what));
+        }
+        if x < 0.0 {
             return Err(Error::InvalidArgument(format!("{what} = {x} must be >= 0")));
         }
     }
@@ -76,5 +96,5 @@ pub fn coupled_critical_time_step(
     };
     let s = k_t * (1.0 / mass1 + 1.0 / mass2 + l1 * l1 / inertia1 + arm2)
         + k_theta * (1.0 / inertia1 + 1.0 / inertia2);
-    Ok(2.0 / s.sqrt())
+    finite_result(2.0 / s.sqrt())
 }
