@@ -5,7 +5,7 @@ use crate::decompose::{decompose_pair, decompose_wall, Parts, Sphere, Wall};
 use crate::error::Error;
 use crate::geometry::check_finite_vec;
 use crate::laws::model::{Model, Preset, RollingDamping, RollingLaw, RollingStiffness};
-use crate::laws::step::{contact_step_unchecked, ContactState, Partner, StepInput, StepOutput};
+use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
 use nalgebra::RealField;
 
 fn finite_nonneg<T: RealField + Copy>(x: T, what: &'static str) -> Result<(), Error> {
@@ -162,12 +162,13 @@ pub fn contact_step_pair<T: RealField + Copy>(
     input: &StepInput<T>,
     state: &mut ContactState<T>,
 ) -> Result<StepOutput<T>, Error> {
-    // The decomposition's own checks (finite bodies, radii, coincident centres, branches).
-    decompose_pair(body1, body2, model.geometry, Parts(0))?;
+    // The decomposition's own checks (finite bodies, radii, coincident centres, branches); its
+    // geometry is the one the step uses (computed once).
+    let g = decompose_pair(body1, body2, model.geometry, Parts(0))?.geometry;
     check_input(model, input, false)?;
     check_state(state)?;
     let mut next = *state;
-    let out = contact_step_unchecked(model, body1, Partner::Sphere(body2), input, &mut next);
+    let out = contact_step_with_geometry(model, g, body1, Partner::Sphere(body2), input, &mut next);
     check_output(&out, &next)?;
     *state = next;
     Ok(out)
@@ -189,7 +190,14 @@ pub fn contact_step_wall<T: RealField + Copy>(
         ..*wall
     };
     let mut next = *state;
-    let out = contact_step_unchecked(model, sphere, Partner::Wall(&unit), input, &mut next);
+    let out = contact_step_with_geometry(
+        model,
+        d.geometry,
+        sphere,
+        Partner::Wall(&unit),
+        input,
+        &mut next,
+    );
     check_output(&out, &next)?;
     *state = next;
     Ok(out)
