@@ -642,6 +642,50 @@ impl<L: Lanes> Gathered<L> {
     }
 }
 
+/// Marks every contact failed when the call's index pairs reach outside the particle array
+/// (nothing can be gathered); returns true in that case.
+fn refuse_ungatherable<A: Gather>(access: &A, n: usize, report: &mut BatchReport) -> bool {
+    if n == 0 || access.gatherable() {
+        return false;
+    }
+    for c in 0..n {
+        report.fail(c, || {
+            Error::InvalidArgument("contact's particle index out of range".to_string())
+        });
+    }
+    true
+}
+
+/// The chunk of contacts starting at `c0`: how many lanes are real, each lane's contact index
+/// (lanes past the end repeat the last contact; their results are dropped), the two bodies of
+/// each lane, and the mask of lanes whose particle indices are in range. Prefetches the chunk
+/// `TOUCH_AHEAD` contacts ahead.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn chunk<L: Lanes, A: Gather>(
+    access: &A,
+    c0: usize,
+    n: usize,
+) -> (usize, L::Arr<usize>, L::Arr<(&A::P, &A::P)>, u64) {
+    let lanes = (n - c0).min(L::N);
+    for k in 0..L::N {
+        access.touch(c0 + TOUCH_AHEAD + k);
+    }
+    let mut idx = L::arr(c0);
+    for k in 0..L::N {
+        idx[k] = c0 + k.min(lanes - 1);
+    }
+    let first = access.body_refs(c0);
+    let mut refs = L::arr((first.0, first.1));
+    let mut index_ok = 0u64;
+    for k in 0..L::N {
+        let (x, y, ok) = access.body_refs(idx[k]);
+        refs[k] = (x, y);
+        index_ok |= (ok as u64) << k;
+    }
+    (lanes, idx, refs, index_ok)
+}
+
 /// The geometry of lanes `offset..offset + G::N` in `f64` lanes, and the mask (shifted to those
 /// lanes) of what `decompose_pair` checks on it: finite positions and radii, radii > 0,
 /// `d >= eps (R1 + R2)`, a unit normal, `l1, l2 > 0`.
@@ -733,33 +777,12 @@ pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess>(
     let needs_kn = needs_normal_stiffness(&model);
     let n = access.len();
     let mut report = BatchReport::default();
-    if n > 0 && !access.gatherable() {
-        for c in 0..n {
-            report.fail(c, || {
-                Error::InvalidArgument("contact's particle index out of range".to_string())
-            });
-        }
+    if refuse_ungatherable(&*access, n, &mut report) {
         return report;
     }
     let mut c0 = 0;
     while c0 < n {
-        let lanes = (n - c0).min(L::N);
-        for k in 0..L::N {
-            access.touch(c0 + TOUCH_AHEAD + k);
-        }
-        // Lanes past the end repeat the last contact (their results are dropped).
-        let mut idx = L::arr(c0);
-        for k in 0..L::N {
-            idx[k] = c0 + k.min(lanes - 1);
-        }
-        let first = access.body_refs(c0);
-        let mut refs = L::arr((first.0, first.1));
-        let mut index_ok = 0u64;
-        for k in 0..L::N {
-            let (x, y, ok) = access.body_refs(idx[k]);
-            refs[k] = (x, y);
-            index_ok |= (ok as u64) << k;
-        }
+        let (lanes, idx, refs, index_ok) = chunk::<L, A>(&*access, c0, n);
         let gathered = gather::<L, A::P>(&refs, model.geometry);
         let zero = L::zero();
         let force = L::from_fn(|k| access.normal_force(idx[k]));
@@ -902,33 +925,12 @@ pub fn decompose_kernel<L: Lanes, A: DecomposeAccess>(
 ) -> BatchReport {
     let n = access.len();
     let mut report = BatchReport::default();
-    if n > 0 && !access.gatherable() {
-        for c in 0..n {
-            report.fail(c, || {
-                Error::InvalidArgument("contact's particle index out of range".to_string())
-            });
-        }
+    if refuse_ungatherable(&*access, n, &mut report) {
         return report;
     }
     let mut c0 = 0;
     while c0 < n {
-        let lanes = (n - c0).min(L::N);
-        for k in 0..L::N {
-            access.touch(c0 + TOUCH_AHEAD + k);
-        }
-        // Lanes past the end repeat the last contact (their results are dropped).
-        let mut idx = L::arr(c0);
-        for k in 0..L::N {
-            idx[k] = c0 + k.min(lanes - 1);
-        }
-        let first = access.body_refs(c0);
-        let mut refs = L::arr((first.0, first.1));
-        let mut index_ok = 0u64;
-        for k in 0..L::N {
-            let (x, y, ok) = access.body_refs(idx[k]);
-            refs[k] = (x, y);
-            index_ok |= (ok as u64) << k;
-        }
+        let (lanes, _idx, refs, index_ok) = chunk::<L, A>(&*access, c0, n);
         let gathered = gather::<L, A::P>(&refs, options);
         let d = decompose_pair_with_geometry(
             gathered.geometry_in(),
