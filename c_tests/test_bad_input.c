@@ -665,9 +665,12 @@ void test_bad_input_contact_step_every_field_and_pointer(void) {
             label(what, sizeof what, "rsl_contact_step", "input", f, v);
             int is_dt = f->offset == offsetof(rsl_contact_input, dt);
             int is_limit = f->offset == offsetof(rsl_contact_input, rolling_friction) ||
-                           f->offset == offsetof(rsl_contact_input, twisting_friction);
+                           f->offset == offsetof(rsl_contact_input, twisting_friction) ||
+                           f->offset == offsetof(rsl_contact_input, mass2) ||
+                           f->offset == offsetof(rsl_contact_input, inertia2);
             if (is_limit && v == 1) {
-                /* +inf friction is documented as "no limit": accepted */
+                /* +inf friction is documented as "no limit", +inf mass2/inertia2 as a fixed
+                 * body 2: accepted */
                 rsl_contact_state copy = st;
                 CHECK_STATUS(rsl_contact_step(m, &a, &b, &bad, &copy, &out), RSL_OK);
                 continue;
@@ -841,8 +844,10 @@ void test_bad_input_contact_step_wall_every_field_and_pointer(void) {
             const field *f = &INPUT[i];
             int is_dt = f->offset == offsetof(rsl_contact_input, dt);
             int is_limit = f->offset == offsetof(rsl_contact_input, rolling_friction) ||
-                           f->offset == offsetof(rsl_contact_input, twisting_friction);
-            if (is_limit && v == 1) continue; /* +inf: no limit (tested with the pair) */
+                           f->offset == offsetof(rsl_contact_input, twisting_friction) ||
+                           f->offset == offsetof(rsl_contact_input, mass2) ||
+                           f->offset == offsetof(rsl_contact_input, inertia2);
+            if (is_limit && v == 1) continue; /* +inf: no limit / fixed body (tested with the pair) */
             rsl_contact_input bad = in;
             poke(&bad, f->offset, NONFINITE[v]);
             label(what, sizeof what, "rsl_contact_step_wall", "input", f, v);

@@ -447,11 +447,11 @@ typedef struct rsl_contact_input {
   double contact_radius;
   // Mass of body 1 (damping-ratio rolling damping only).
   double mass1;
-  // Mass of body 2 (ignored for walls).
+  // Mass of body 2 (ignored for walls); +INFINITY for a fixed body.
   double mass2;
   // Moment of inertia of body 1 (damping-ratio rolling damping only).
   double inertia1;
-  // Moment of inertia of body 2 (ignored for walls).
+  // Moment of inertia of body 2 (ignored for walls); +INFINITY for a fixed body.
   double inertia2;
   // Per-contact `k_t`, used with `RSL_INPUT_SLIDING_STIFFNESS`.
   double sliding_stiffness;

@@ -765,3 +765,42 @@ fn spring_corner_cases_are_defined() {
         }
     }
 }
+
+/// A fixed body 2 (+inf mass and inertia) gives the damping-ratio EPSD dashpot of a wall:
+/// `I_r = I1 + m1 R1^2` (the inverse of body 2's reduced inertia is 0).
+#[test]
+fn fixed_body_two_has_the_reduced_inertia_of_a_wall() {
+    let mut m = Model::default();
+    m.rolling = RollingParams {
+        damping_rule: RollingDamping::Ratio,
+        ..epsd(50.0, 0.3, 10.0)
+    };
+    let w1 = v(0.0, 0.0, 2.0);
+    let b1 = sphere(v(0.0, 0.0, 0.0), Vector3::zeros(), w1, R1);
+    let b2 = sphere(
+        v(3.0 - 1e-3, 0.0, 0.0),
+        Vector3::zeros(),
+        Vector3::zeros(),
+        R2,
+    );
+    let mut input = StepInput::new(1.0, 1e-3);
+    input.mass1 = 2.0;
+    input.inertia1 = 0.4 * 2.0 * R1 * R1;
+    input.mass2 = f64::INFINITY;
+    input.inertia2 = f64::INFINITY;
+    let out = contact_step_pair(&m, &b1, &b2, &input, &mut ContactState::default()).unwrap();
+    let d = decompose_pair(&b1, &b2, GeometryOptions::default(), Parts::ALL).unwrap();
+    let r_r = d.geometry.rolling_radius;
+    let i_r = input.inertia1 + input.mass1 * R1 * R1;
+    let c_theta = 0.3 * 2.0 * (i_r * 50.0 * r_r * r_r).sqrt();
+    let (k_r, gamma_r) = (50.0, c_theta / (r_r * r_r));
+    let load = -d.rolling_velocity * (k_r * 1e-3) - d.rolling_velocity * gamma_r;
+    let expected = d.geometry.normal.cross(&load) * r_r;
+    assert_vec_close(
+        &out.rolling_moment,
+        &expected,
+        1e-14,
+        1e-12,
+        "fixed body 2 dashpot",
+    );
+}

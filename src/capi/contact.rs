@@ -81,11 +81,11 @@ pub struct rsl_contact_input {
     pub contact_radius: f64,
     /// Mass of body 1 (damping-ratio rolling damping only).
     pub mass1: f64,
-    /// Mass of body 2 (ignored for walls).
+    /// Mass of body 2 (ignored for walls); +INFINITY for a fixed body.
     pub mass2: f64,
     /// Moment of inertia of body 1 (damping-ratio rolling damping only).
     pub inertia1: f64,
-    /// Moment of inertia of body 2 (ignored for walls).
+    /// Moment of inertia of body 2 (ignored for walls); +INFINITY for a fixed body.
     pub inertia2: f64,
     /// Per-contact `k_t`, used with `RSL_INPUT_SLIDING_STIFFNESS`.
     pub sliding_stiffness: f64,

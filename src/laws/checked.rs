@@ -18,6 +18,15 @@ fn finite_nonneg<T: RealField + Copy>(x: T, what: &'static str) -> Result<(), Er
     Ok(())
 }
 
+/// As [`finite_nonneg`], but +inf is accepted (a fixed body).
+fn fixed_or_finite_nonneg<T: RealField + Copy>(x: T, what: &'static str) -> Result<(), Error> {
+    if x > T::zero() && !x.is_finite() {
+        Ok(())
+    } else {
+        finite_nonneg(x, what)
+    }
+}
+
 fn positive<T: RealField + Copy>(x: T, what: &str) -> Result<(), Error> {
     if x.is_finite() && x > T::zero() {
         Ok(())
@@ -45,9 +54,10 @@ fn check_input<T: RealField + Copy>(
     finite_nonneg(input.normal_stiffness, "normal_stiffness")?;
     finite_nonneg(input.contact_radius, "contact_radius")?;
     finite_nonneg(input.mass1, "mass1")?;
-    finite_nonneg(input.mass2, "mass2")?;
     finite_nonneg(input.inertia1, "inertia1")?;
-    finite_nonneg(input.inertia2, "inertia2")?;
+    // Body 2 may be fixed: +inf mass or inertia (its inverse is 0, as for a wall).
+    fixed_or_finite_nonneg(input.mass2, "mass2")?;
+    fixed_or_finite_nonneg(input.inertia2, "inertia2")?;
     if let Some(k) = input.sliding_stiffness {
         finite_nonneg(k, "sliding_stiffness")?;
     }
@@ -101,7 +111,10 @@ fn check_input<T: RealField + Copy>(
         positive(input.mass1, "mass1")?;
         finite_nonneg(input.inertia1, "inertia1")?;
         if !wall {
-            positive(input.mass2, "mass2")?;
+            // Finite and > 0, or +inf (a fixed body 2); NaN was refused above.
+            if input.mass2 <= T::zero() {
+                positive(input.mass2, "mass2")?;
+            }
         }
     }
     Ok(())

@@ -34,11 +34,11 @@ pub struct StepInput<T: Real> {
     pub contact_radius: T,
     /// Mass of body 1 (damping-ratio rolling damping only).
     pub mass1: T,
-    /// Mass of body 2 (ignored for a wall).
+    /// Mass of body 2 (ignored for a wall); +inf for a fixed body.
     pub mass2: T,
     /// Moment of inertia of body 1 (damping-ratio rolling damping only).
     pub inertia1: T,
-    /// Moment of inertia of body 2 (ignored for a wall).
+    /// Moment of inertia of body 2 (ignored for a wall); +inf for a fixed body.
     pub inertia2: T,
     /// Per-contact sliding stiffness replacing the model's `k_t` (e.g. Hertz-Mindlin `8 G a`).
     pub sliding_stiffness: Option<T>,
