@@ -522,22 +522,25 @@ unsafe fn slice_out<'a, T>(
     Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
 }
 
+/// A call-level error (nothing processed): the report, if any, says so with the error's status.
+fn refuse(report: Option<&mut rsl_batch_report>, e: FfiError) -> Result<(), FfiError> {
+    if let Some(r) = report {
+        *r = rsl_batch_report {
+            first_failed: RSL_BATCH_NONE,
+            first_status: e.code(),
+            ..Default::default()
+        };
+    }
+    Err(e)
+}
+
 /// Writes the report (if requested) and maps a partial failure to the first failing status.
 fn finish(
     report: Option<&mut rsl_batch_report>,
     result: Result<(BatchReport, u32, Simd), Error>,
 ) -> Result<(), FfiError> {
     match result {
-        Err(e) => {
-            if let Some(r) = report {
-                *r = rsl_batch_report {
-                    first_failed: RSL_BATCH_NONE,
-                    first_status: FfiError::Core(e.clone()).code(),
-                    ..Default::default()
-                };
-            }
-            Err(FfiError::Core(e))
-        }
+        Err(e) => refuse(report, FfiError::Core(e)),
         Ok((b, scene, simd)) => {
             let first_status = b
                 .first_error
@@ -659,16 +662,7 @@ pub unsafe extern "C" fn rsl_batch_step(
             Ok((m, access, config))
         })();
         match result {
-            Err(e) => {
-                if let Some(r) = report {
-                    *r = rsl_batch_report {
-                        first_failed: RSL_BATCH_NONE,
-                        first_status: e.code(),
-                        ..Default::default()
-                    };
-                }
-                Err(e)
-            }
+            Err(e) => refuse(report, e),
             Ok((m, mut access, config)) => finish(
                 report,
                 run_step(&m.model, dt, &mut access, config)
@@ -740,16 +734,7 @@ pub unsafe extern "C" fn rsl_batch_step_contacts(
             Ok((m, access, config))
         })();
         match result {
-            Err(e) => {
-                if let Some(r) = report {
-                    *r = rsl_batch_report {
-                        first_failed: RSL_BATCH_NONE,
-                        first_status: e.code(),
-                        ..Default::default()
-                    };
-                }
-                Err(e)
-            }
+            Err(e) => refuse(report, e),
             Ok((m, mut access, config)) => finish(
                 report,
                 run_step(&m.model, dt, &mut access, config)
@@ -858,16 +843,7 @@ fn decompose_finish<A: DecomposeAccess>(
     result: Result<(A, GeometryOptions, Parts, BatchConfig), FfiError>,
 ) -> Result<(), FfiError> {
     match result {
-        Err(e) => {
-            if let Some(r) = report {
-                *r = rsl_batch_report {
-                    first_failed: RSL_BATCH_NONE,
-                    first_status: e.code(),
-                    ..Default::default()
-                };
-            }
-            Err(e)
-        }
+        Err(e) => refuse(report, e),
         Ok((mut access, geometry, parts, config)) => finish(
             report,
             run_decompose(geometry, parts, &mut access, config).map(|b| (b, 0, config.simd)),
