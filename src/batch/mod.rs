@@ -69,6 +69,10 @@ pub trait StateSlot {
     fn load(&self) -> ContactState<f64>;
     /// Writes the state after a successful step, with the `SLIP_*` bits of the step.
     fn store(&mut self, state: &ContactState<f64>, slip: u32);
+    /// Starts loading the slot (see [`Gather::touch`]); the default does nothing (a state
+    /// array is read in order, which the hardware prefetcher follows on its own).
+    #[inline(always)]
+    fn touch(&self) {}
 }
 
 /// A 3-vector accumulator of the host (force or torque of a particle).
@@ -288,7 +292,7 @@ impl<'a, P, S, V> ParticleSteps<'a, P, S, V> {
     }
 }
 
-impl<P: SphereSlot, S, V: AddSlot> Gather for ParticleSteps<'_, P, S, V> {
+impl<P: SphereSlot, S: StateSlot, V: AddSlot> Gather for ParticleSteps<'_, P, S, V> {
     type P = P;
     #[inline(always)]
     fn gatherable(&self) -> bool {
@@ -300,6 +304,9 @@ impl<P: SphereSlot, S, V: AddSlot> Gather for ParticleSteps<'_, P, S, V> {
     }
     #[inline(always)]
     fn touch(&self, c: usize) {
+        if let Some(s) = self.states.get(c) {
+            s.touch();
+        }
         if let Some(&[i, j]) = self.pairs.get(c) {
             for idx in [i as usize, j as usize] {
                 if let (Some(p), Some(f), Some(t)) = (
@@ -592,7 +599,7 @@ fn probe<T: Real>(acc: T, v: &Vec3<T>) -> T {
 }
 
 /// How many contacts ahead of the current chunk the kernels touch the scattered data.
-const TOUCH_AHEAD: usize = 24;
+const TOUCH_AHEAD: usize = 48;
 
 /// Bits `0..lanes` set.
 #[inline(always)]

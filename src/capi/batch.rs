@@ -114,7 +114,7 @@ fn prefetch<T>(p: &T) {
     // SAFETY: PREFETCHT0 is a hint: it never faults and changes no architectural state; the
     // address comes from a live reference anyway.
     unsafe {
-        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T1 }>(
             (p as *const T).cast::<i8>(),
         )
     }
@@ -147,6 +147,13 @@ impl StateSlot for rsl_contact_state {
         self.previous_normal = s.previous_normal.into();
         self.slip_flags = slip;
     }
+    #[inline(always)]
+    fn touch(&self) {
+        // 112 bytes: two or three cache lines.
+        prefetch(&self.sliding_spring.x);
+        prefetch(&self.twisting_offaxis.x);
+        prefetch(&self.slip_flags);
+    }
 }
 
 impl AddSlot for rsl_vec3 {
@@ -158,7 +165,9 @@ impl AddSlot for rsl_vec3 {
     }
     #[inline(always)]
     fn touch(&self) {
-        prefetch(self);
+        // 24 bytes: may straddle two cache lines.
+        prefetch(&self.x);
+        prefetch(&self.z);
     }
 }
 
