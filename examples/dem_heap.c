@@ -887,9 +887,16 @@ int main(int argc, char **argv) {
         return 1;
     }
     printf("plot written to %s\n", svg);
-    /* The physics check of the demo: the angle must rise with rolling friction (by far more than
-     * the few degrees of scatter between runs). */
-    int rising = res[n - 1].angle_deg > res[0].angle_deg + 5.0;
-    if (!rising) fprintf(stderr, "dem_heap: the angle of repose did not rise with mu_r\n");
+    /* The physics check of the demo: the heap must steepen with rolling friction, by far more
+     * than the scatter between runs. The full demo checks the angle of repose. The quick smoke
+     * test (800 spheres) checks the heap's height instead: its angle is a fit over a few dozen
+     * surface spheres, and a one-ulp change of the contact normals (one division by the
+     * distance instead of three) moved it from 13.9 to 21.2 degrees at mu_r = 0 and from 26.2 to
+     * 22.3 at mu_r = 0.4, while the heights moved by 1-2% (3.91 -> 3.95 and 5.68 -> 5.56). */
+    int rising = quick ? res[n - 1].height > 1.2 * res[0].height
+                       : res[n - 1].angle_deg > res[0].angle_deg + 5.0;
+    if (!rising)
+        fprintf(stderr, "dem_heap: the heap did not steepen with mu_r (%s)\n",
+                quick ? "height" : "angle of repose");
     return rising ? 0 : 1;
 }

@@ -74,7 +74,8 @@ pub fn pair_geometry_unchecked<T: Real>(
 ) -> ContactGeometry<T> {
     let branch = r2 - r1;
     let distance = branch.norm();
-    let normal = branch / distance;
+    // One division, as LAMMPS and LIGGGHTS do (`rinv = 1/r`), not three.
+    let normal = branch * (T::one() / distance);
     let overlap = radius1 + radius2 - distance;
     let (branch1, branch2, branch_rate_factor) = match options.branch_rule {
         BranchRule::Midplane => {

@@ -14,7 +14,7 @@ use rollslide::laws::model::*;
 use rollslide::laws::spring::SpringEnergy;
 use rollslide::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
 use rollslide::laws::step::{ContactState, StepInput, StepOutput};
-use rollslide::laws::transport::{transport, Frame};
+use rollslide::laws::transport::{transport, Frame, RescaleWhen};
 use rollslide::{decompose_pair, GeometryOptions, Parts, RollingRadiusRule, Sphere, Wall};
 
 const R1: f64 = 0.7;
@@ -427,7 +427,12 @@ fn energy_balance_per_step_for_each_spring() {
                 spin_angle: (b1.angular_velocity + b2.angular_velocity).dot(&n) * 0.5 * dt,
                 half_spin_old: 0.0,
             };
-            let xi_old = transport(Transport::Exact, &before.sliding_spring, &frame, 0.0);
+            let xi_old = transport(
+                Transport::Exact,
+                &before.sliding_spring,
+                &frame,
+                RescaleWhen::NormalPart,
+            );
             let k_t = m.sliding.stiffness;
             let v_s = d.sliding_velocity;
             let e_old = 0.5 * k_t * xi_old.norm_squared();

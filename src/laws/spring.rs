@@ -3,6 +3,7 @@
 //! Written once for every [`Real`] type: the clip is a lane-wise select, not a branch.
 
 use crate::scalar::{lit, mask, select, select3, Real, Vec3};
+use simba::simd::SimdBool;
 
 /// How the limit is applied when the trial load exceeds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -134,35 +135,49 @@ pub fn vector_spring<T: Real>(
             let load = elastic_trial - damping_load;
             let magnitude = load.norm();
             let slipped = magnitude.simd_gt(c.limit);
-            let scale = c.limit / select(slipped, magnitude, T::one());
-            let clipped = load * scale;
-            let elastic_reset = clipped + damping_load;
-            let spring_reset = match storage {
-                Storage::Displacement => select3(k_positive, &(elastic_reset / (-safe_k)), &trial),
-                Storage::Load => elastic_reset,
-            };
-            let mut new_spring = select3(slipped, &spring_reset, &trial);
-            let mut new_elastic = select3(slipped, &elastic_reset, &elastic_trial);
-            let mut load = select3(slipped, &clipped, &load);
-            let mut damped = mask::<T>(true);
-            if rule == ClipRule::Lammps {
-                // LAMMPS: a slipping spring of zero length gives no load at all and stays empty.
-                let empty = slipped & trial.norm_squared().simd_le(zero);
-                load = select3(empty, &Vec3::zeros(), &load);
-                new_spring = select3(empty, &trial, &new_spring);
-                new_elastic = select3(empty, &elastic_trial, &new_elastic);
-                damped = !empty;
+            if slipped.none() {
+                // No lane slips: the selects below would all pick the trial values (skipping
+                // them changes no bit, and spares the clip's divisions in the common case).
+                (load, trial, elastic_trial, slipped, mask::<T>(true))
+            } else {
+                let scale = c.limit / select(slipped, magnitude, T::one());
+                let clipped = load * scale;
+                let elastic_reset = clipped + damping_load;
+                let spring_reset = match storage {
+                    Storage::Displacement => {
+                        select3(k_positive, &(elastic_reset / (-safe_k)), &trial)
+                    }
+                    Storage::Load => elastic_reset,
+                };
+                let mut new_spring = select3(slipped, &spring_reset, &trial);
+                let mut new_elastic = select3(slipped, &elastic_reset, &elastic_trial);
+                let mut load = select3(slipped, &clipped, &load);
+                let mut damped = mask::<T>(true);
+                if rule == ClipRule::Lammps {
+                    // LAMMPS: a slipping spring of zero length gives no load at all and stays
+                    // empty.
+                    let empty = slipped & trial.norm_squared().simd_le(zero);
+                    load = select3(empty, &Vec3::zeros(), &load);
+                    new_spring = select3(empty, &trial, &new_spring);
+                    new_elastic = select3(empty, &elastic_trial, &new_elastic);
+                    damped = !empty;
+                }
+                (load, new_spring, new_elastic, slipped, damped)
             }
-            (load, new_spring, new_elastic, slipped, damped)
         }
         ClipRule::SpringOnly => {
             let magnitude = elastic_trial.norm();
             let slipped = magnitude.simd_gt(c.limit);
-            let scale = c.limit / select(slipped, magnitude, T::one());
-            let new_spring = select3(slipped, &(trial * scale), &trial);
-            let new_elastic = select3(slipped, &(elastic_trial * scale), &elastic_trial);
-            let load = select3(slipped, &new_elastic, &(new_elastic - damping_load));
-            (load, new_spring, new_elastic, slipped, !slipped)
+            if slipped.none() {
+                let load = elastic_trial - damping_load;
+                (load, trial, elastic_trial, slipped, !slipped)
+            } else {
+                let scale = c.limit / select(slipped, magnitude, T::one());
+                let new_spring = select3(slipped, &(trial * scale), &trial);
+                let new_elastic = select3(slipped, &(elastic_trial * scale), &elastic_trial);
+                let load = select3(slipped, &new_elastic, &(new_elastic - damping_load));
+                (load, new_spring, new_elastic, slipped, !slipped)
+            }
         }
     };
     let energy = if energy {
@@ -211,32 +226,40 @@ pub fn scalar_spring<T: Real>(
         ClipRule::Total | ClipRule::Lammps => {
             let load = -c.stiffness * trial - damping_load;
             let slipped = load.simd_abs().simd_gt(c.limit);
-            let direction = if rule == ClipRule::Lammps {
-                -sign(rate)
+            if slipped.none() {
+                (load, trial, slipped, mask::<T>(true))
             } else {
-                sign(load)
-            };
-            let clipped = c.limit * direction;
-            let reset = select(k_positive, -(clipped + damping_load) / safe_k, trial);
-            (
-                select(slipped, clipped, load),
-                select(slipped, reset, trial),
-                slipped,
-                mask::<T>(true),
-            )
+                let direction = if rule == ClipRule::Lammps {
+                    -sign(rate)
+                } else {
+                    sign(load)
+                };
+                let clipped = c.limit * direction;
+                let reset = select(k_positive, -(clipped + damping_load) / safe_k, trial);
+                (
+                    select(slipped, clipped, load),
+                    select(slipped, reset, trial),
+                    slipped,
+                    mask::<T>(true),
+                )
+            }
         }
         ClipRule::SpringOnly => {
             let spring_load = -c.stiffness * trial;
             let slipped = spring_load.simd_abs().simd_gt(c.limit);
-            let scale = c.limit / select(slipped, spring_load.simd_abs(), one);
-            let new_spring = select(slipped, trial * scale, trial);
-            let spring_load = -c.stiffness * new_spring;
-            (
-                select(slipped, spring_load, spring_load - damping_load),
-                new_spring,
-                slipped,
-                !slipped,
-            )
+            if slipped.none() {
+                (spring_load - damping_load, trial, slipped, !slipped)
+            } else {
+                let scale = c.limit / select(slipped, spring_load.simd_abs(), one);
+                let new_spring = select(slipped, trial * scale, trial);
+                let spring_load = -c.stiffness * new_spring;
+                (
+                    select(slipped, spring_load, spring_load - damping_load),
+                    new_spring,
+                    slipped,
+                    !slipped,
+                )
+            }
         }
     };
     let energy = if energy {

@@ -16,7 +16,7 @@ use crate::laws::presets::{Conventions, SlidingRate};
 use crate::laws::spring::{
     scalar_spring, vector_spring, ClipRule, SpringCoefficients, SpringEnergy, Storage,
 };
-use crate::laws::transport::{transport, Frame};
+use crate::laws::transport::{transport, Frame, RescaleWhen};
 use crate::loads::{contact_loads_from_couple, ContactLoads};
 use crate::scalar::{lit, mask, select, select3, tangential, Real, Vec3};
 
@@ -270,17 +270,12 @@ pub fn contact_step_with_geometry<T: Real>(
         spin_angle: (w1 + w2).dot(&n) * half * dt,
         half_spin_old: (w1 + w2).dot(&old_normal) * half * dt,
     };
-    let threshold = |k: T, limit: T| -> T {
+    let rescale_when = |stiffness: T, limit: T| -> RescaleWhen<T> {
         if conv.lammps_rescale_threshold {
             // LAMMPS: transport only when |xi . n| k > 1e-10 mu f_n.
-            let positive = k.simd_gt(zero);
-            select(
-                positive,
-                lit::<T>(1e-10) * limit / select(positive, k, T::one()),
-                zero,
-            )
+            RescaleWhen::Lammps { stiffness, limit }
         } else {
-            zero
+            RescaleWhen::NormalPart
         }
     };
     let mut transport_change = zero;
@@ -321,7 +316,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 model.sliding_transport,
                 &state.sliding_spring,
                 &frame,
-                threshold(k_t, limit),
+                rescale_when(k_t, limit),
             )
         } else {
             state.sliding_spring
@@ -462,7 +457,7 @@ pub fn contact_step_with_geometry<T: Real>(
                         model.rolling_transport,
                         &state.rolling_spring,
                         &frame,
-                        threshold(k, limit),
+                        rescale_when(k, limit),
                     )
                 } else {
                     state.rolling_spring
@@ -533,7 +528,12 @@ pub fn contact_step_with_geometry<T: Real>(
             // YADE: a vector twisting moment, transported like the shear force.
             let stored = old_normal * state.twisting_angle + state.twisting_offaxis;
             let moved = if increment_sliding {
-                transport(model.sliding_transport, &stored, &frame, zero)
+                transport(
+                    model.sliding_transport,
+                    &stored,
+                    &frame,
+                    RescaleWhen::NormalPart,
+                )
             } else {
                 stored
             };

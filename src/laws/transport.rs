@@ -16,6 +16,21 @@ pub struct Frame<T: Real> {
     pub half_spin_old: T,
 }
 
+/// When the project-rescale scheme acts (the other schemes ignore it).
+#[derive(Clone, Copy, Debug)]
+pub enum RescaleWhen<T> {
+    /// Whenever the vector has a normal part (`|u . n| > 0`).
+    NormalPart,
+    /// LAMMPS' test `|u . n| k > 1e-10 limit` (`k` the spring's stiffness, `limit` its load
+    /// limit, e.g. `mu f_n`): a spring with `k = 0` is never rescaled.
+    Lammps {
+        /// Stiffness `k` of the spring.
+        stiffness: T,
+        /// Load limit of the spring.
+        limit: T,
+    },
+}
+
 /// Rotates a tangential vector `u` about the unit normal `n` by `angle` without trigonometry:
 /// the rational (Cayley) rotation with `t = tan(angle/2)` from its series `h + h^3/3`,
 /// `h = angle/2`. The rotation is orthogonal, so lengths are kept exactly; the angle turned is
@@ -31,14 +46,13 @@ fn spin_about<T: Real>(u: &Vec3<T>, n: &Vec3<T>, angle: T) -> Vec3<T> {
     u * cos + n.cross(u) * sin
 }
 
-/// Transports `u` with `scheme`. `rescale_threshold` is LAMMPS' condition for project-rescale:
-/// the vector is transported only when `|u . n| > rescale_threshold` (0 transports always).
+/// Transports `u` with `scheme`; `rescale` says when project-rescale acts.
 #[inline(always)]
 pub fn transport<T: Real>(
     scheme: Transport,
     u: &Vec3<T>,
     frame: &Frame<T>,
-    rescale_threshold: T,
+    rescale: RescaleWhen<T>,
 ) -> Vec3<T> {
     let a = &frame.old_normal;
     let b = &frame.new_normal;
@@ -64,8 +78,13 @@ pub fn transport<T: Real>(
             let projected = u - b * normal_part;
             let old_len2 = u.norm_squared();
             let new_len2 = projected.norm_squared();
-            let act =
-                normal_part.simd_abs().simd_gt(rescale_threshold) & new_len2.simd_gt(T::zero());
+            let has_normal_part = match rescale {
+                RescaleWhen::NormalPart => normal_part.simd_abs().simd_gt(T::zero()),
+                RescaleWhen::Lammps { stiffness, limit } => {
+                    (normal_part.simd_abs() * stiffness).simd_gt(lit::<T>(1e-10) * limit)
+                }
+            };
+            let act = has_normal_part & new_len2.simd_gt(T::zero());
             let scale = (old_len2 / crate::scalar::select(act, new_len2, T::one())).simd_sqrt();
             select3(act, &(projected * scale), u)
         }
