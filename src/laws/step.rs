@@ -224,7 +224,9 @@ pub fn contact_step_with_geometry<T: Real>(
     let rolling_on = model.rolling.law != RollingLaw::None;
     let twisting_on = model.twisting.law != TwistingLaw::None;
     let mut parts = Parts(0);
-    if sliding_on {
+    // LAMMPS' full-radii sliding rate of a sphere pair is computed below in one go.
+    let radii_pair = conv.sliding_rate == SlidingRate::Radii && matches!(body2, Partner::Sphere(_));
+    if sliding_on && !radii_pair {
         parts = parts | Parts::SLIDING;
     }
     if twisting_on {
@@ -294,9 +296,14 @@ pub fn contact_step_with_geometry<T: Real>(
     if sliding_on {
         let mut v_s = d.sliding_velocity;
         let delta = g.overlap;
-        match conv.sliding_rate {
-            SlidingRate::Branches => {}
-            SlidingRate::Radii | SlidingRate::YadeScaled => {
+        match (conv.sliding_rate, body2) {
+            (SlidingRate::Branches, _) => {}
+            (SlidingRate::Radii, Partner::Sphere(b2)) => {
+                // As LAMMPS writes it: (R1 w1 + R2 w2) x n - (v2 - v1)_t.
+                let arms = w1 * body1.radius + w2 * b2.radius;
+                v_s = arms.cross(&n) - tangential(&(b2.velocity - body1.velocity), &n);
+            }
+            (SlidingRate::Radii | SlidingRate::YadeScaled, _) => {
                 let arm1 = body1.radius - g.branch1;
                 v_s += match body2 {
                     Partner::Sphere(b2) => {
