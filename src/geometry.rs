@@ -5,7 +5,7 @@
 //! normal `n` points **from body 1 to body 2** (into the wall). Lengths are in the caller's unit.
 
 use crate::error::Error;
-use crate::scalar::{lit, Real, Vec3};
+use crate::scalar::{finite_probe, lit, zero_if_finite, Real, Vec3};
 use nalgebra::RealField;
 
 /// Where the two branch vectors end (kinematics.md section 2, a **convention**).
@@ -216,6 +216,36 @@ pub fn pair_geometry<T: RealField + Copy>(
     }
     check_branches(&g)?;
     Ok(g)
+}
+
+/// Lane-wise, whether [`pair_geometry`] would accept these inputs and their geometry `g`
+/// (from [`pair_geometry_unchecked`]): finite centres and radii, radii > 0,
+/// `d >= eps (R1 + R2)`, a normal of unit length to rounding, `l1, l2 > 0`. The batch kernels
+/// and the per-contact fast path test validity with it without branching per check.
+#[inline(always)]
+pub fn pair_geometry_valid<T: Real>(
+    r1: &Vec3<T>,
+    r2: &Vec3<T>,
+    radius1: T,
+    radius2: T,
+    g: &ContactGeometry<T>,
+) -> T::SimdBool {
+    let zero = T::zero();
+    let eps = T::simd_default_epsilon();
+    let mut acc = zero_if_finite(radius1) + zero_if_finite(radius2) + zero_if_finite(g.distance);
+    acc = finite_probe(acc, r1);
+    acc = finite_probe(acc, r2);
+    acc.simd_eq(zero)
+        & radius1.simd_gt(zero)
+        & radius2.simd_gt(zero)
+        & g.distance.simd_ge(eps * (radius1 + radius2))
+        // A distance whose square underflows (below ~1.5e-154) gives a normal that is not
+        // unit: refused (see `is_unit`).
+        & (g.normal.norm_squared() - T::one())
+            .simd_abs()
+            .simd_le(lit::<T>(16.0) * eps)
+        & g.branch1.simd_gt(zero)
+        & g.branch2.simd_gt(zero)
 }
 
 /// Geometry of a sphere against a flat wall with every check: finite input, radius > 0, a

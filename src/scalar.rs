@@ -52,3 +52,17 @@ pub fn mask<T: Real>(value: bool) -> T::SimdBool {
         T::zero().simd_gt(T::zero())
     }
 }
+
+/// `0 x`: 0 for a finite `x`, NaN for an infinite or NaN one (lane-wise). Summing these over
+/// many inputs tests them all finite with one comparison.
+#[inline(always)]
+pub fn zero_if_finite<T: Real>(x: T) -> T {
+    x * T::zero()
+}
+
+/// `acc + 0 v_x + 0 v_y + 0 v_z`: stays 0 while `acc` is 0 and every component is finite, NaN
+/// otherwise (see [`zero_if_finite`]).
+#[inline(always)]
+pub fn finite_probe<T: Real>(acc: T, v: &Vec3<T>) -> T {
+    acc + (zero_if_finite(v.x) + zero_if_finite(v.y) + zero_if_finite(v.z))
+}

@@ -34,11 +34,13 @@ use crate::decompose::{
     decompose_pair, decompose_pair_with_geometry, Decomposition, Parts, Sphere,
 };
 use crate::error::Error;
-use crate::geometry::{pair_geometry_unchecked, ContactGeometry, GeometryOptions};
+use crate::geometry::{
+    pair_geometry_unchecked, pair_geometry_valid, ContactGeometry, GeometryOptions,
+};
 use crate::laws::checked::contact_step_pair;
-use crate::laws::model::{Model, Preset, RollingDamping, RollingLaw, RollingStiffness};
+use crate::laws::model::{Model, RollingDamping, RollingLaw};
 use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput};
-use crate::scalar::{lit, Real, Vec3};
+use crate::scalar::{finite_probe as probe, zero_if_finite as zf, Vec3};
 use simba::simd::SimdBool;
 
 /// Slip bit of the sliding limit (same value as `RSL_SLIP_SLIDING`).
@@ -523,15 +525,9 @@ impl<P: SphereSlot, D: DecompositionSlot> DecomposeAccess for ContactDecompose<'
     }
 }
 
-/// Whether the model reads `k_n` per contact (EPSD-derived rolling stiffness, LIGGGHTS' cdt).
+/// Whether the model reads `k_n` per contact (see [`Model::needs_normal_stiffness`]).
 pub fn needs_normal_stiffness(model: &Model) -> bool {
-    let r = &model.rolling;
-    (r.law == RollingLaw::Epsd
-        && matches!(
-            r.stiffness_rule,
-            RollingStiffness::Epsd | RollingStiffness::Epsd3
-        ))
-        || (r.law == RollingLaw::Cdt && model.preset == Preset::Liggghts38)
+    model.needs_normal_stiffness()
 }
 
 /// Checks that a model can run in a batch: the batch passes only `f_n`, `dt` and optionally
@@ -584,18 +580,6 @@ fn conv3<L: Lanes>(lo: &Vec3<L::Geo>, hi: &Vec3<L::Geo>) -> Vec3<L> {
         L::from_geo(lo.y, hi.y),
         L::from_geo(lo.z, hi.z),
     )
-}
-
-/// `0 x` is 0 for a finite `x` and NaN for an infinite or NaN one.
-#[inline(always)]
-fn zf<T: Real>(x: T) -> T {
-    x * T::zero()
-}
-
-/// `acc + 0 v_x + 0 v_y + 0 v_z`: stays 0 while every component is finite, NaN otherwise.
-#[inline(always)]
-fn probe<T: Real>(acc: T, v: &Vec3<T>) -> T {
-    acc + (zf(v.x) + zf(v.y) + zf(v.z))
 }
 
 /// How many contacts ahead of the current chunk the kernels touch the scattered data.
@@ -707,22 +691,7 @@ fn geometry_half<G: Lanes>(
     let r1 = G::from_fn(|k| at(offset + k).0);
     let r2 = G::from_fn(|k| at(offset + k).1);
     let g = pair_geometry_unchecked(&p1, &p2, r1, r2, options);
-    let zero = lit::<G>(0.0);
-    let mut acc = zf(r1) + zf(r2) + zf(g.distance);
-    for v in [&p1, &p2] {
-        acc = probe(acc, v);
-    }
-    let ok = acc.simd_eq(zero)
-        & r1.simd_gt(zero)
-        & r2.simd_gt(zero)
-        & g.distance.simd_ge(lit::<G>(f64::EPSILON) * (r1 + r2))
-        // A distance whose square underflows (below ~1.5e-154) gives a normal that is not
-        // unit: refused like the scalar path (geometry::pair_geometry).
-        & (g.normal.norm_squared() - lit::<G>(1.0))
-            .simd_abs()
-            .simd_le(lit::<G>(16.0 * f64::EPSILON))
-        & g.branch1.simd_gt(zero)
-        & g.branch2.simd_gt(zero);
+    let ok = pair_geometry_valid(&p1, &p2, r1, r2, &g);
     (g, ok.bitmask() << offset)
 }
 

@@ -2,12 +2,16 @@
 //! `rsl_contact_step_wall`, the state the host stores per contact, and the time-step helpers.
 #![allow(non_camel_case_types)]
 
+use super::batch::Simd;
 use super::model::live_model;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{guard, input, output};
+use crate::batch::scene::Scene;
 use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
-use crate::laws::checked::{contact_step_pair, contact_step_wall};
+use crate::laws::checked::contact_step_wall;
+use crate::laws::fast_path::contact_step_pair_fast;
+use crate::laws::model::Model;
 use crate::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
 use crate::laws::step::{ContactState, StepInput, StepOutput};
 
@@ -278,6 +282,41 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
     })
 }
 
+/// [`contact_step_pair_fast`], built with AVX2 (three-operand instructions, wider moves; no
+/// FMA contraction, so the same bits) when the CPU has it: the SSE2 build spends a third of its
+/// instructions on register copies.
+fn pair_step(
+    model: &Model,
+    scene: Scene,
+    body1: &Sphere<f64>,
+    body2: &Sphere<f64>,
+    input: &StepInput<f64>,
+    state: &mut ContactState<f64>,
+) -> Result<StepOutput<f64>, Error> {
+    #[cfg(target_arch = "x86_64")]
+    if Simd::Avx2.available() {
+        // SAFETY: the CPU supports AVX2 and FMA (checked on the line above), the only
+        // requirement of a `#[target_feature(enable = "avx2,fma")]` function.
+        return unsafe { pair_step_avx2(model, scene, body1, body2, input, state) };
+    }
+    contact_step_pair_fast(model, scene, body1, body2, input, state)
+}
+
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn pair_step_avx2(
+    model: &Model,
+    scene: Scene,
+    body1: &Sphere<f64>,
+    body2: &Sphere<f64>,
+    input: &StepInput<f64>,
+    state: &mut ContactState<f64>,
+) -> Result<StepOutput<f64>, Error> {
+    contact_step_pair_fast(model, scene, body1, body2, input, state)
+}
+
 /// Steps one sphere-sphere contact: transports the springs, computes the rates, steps the
 /// model's sliding, rolling and twisting laws, and writes the loads on both bodies to `*out`.
 /// `*state` and `*out` are written only on `RSL_OK` (with `RSL_INPUT_SETUP`, `*state` only
@@ -313,8 +352,9 @@ pub unsafe extern "C" fn rsl_contact_step(
         };
         let step = step_input(inp)?;
         let mut s = ContactState::from(&*st);
-        let o = contact_step_pair(
+        let o = pair_step(
             &m.model,
+            m.scene,
             &Sphere::from(b1),
             &Sphere::from(b2),
             &step,

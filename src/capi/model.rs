@@ -4,6 +4,7 @@
 
 use super::status::FfiError;
 use super::{guard, input, output};
+use crate::batch::scene::Scene;
 use crate::error::Error;
 use crate::geometry::GeometryOptions;
 use crate::laws::model::{
@@ -85,6 +86,9 @@ const FREED: u64 = 0x6672_6565_645f_5f5f; // "freed___"
 pub struct rsl_model {
     magic: u64,
     pub(crate) model: Model,
+    /// `Scene::classify(&model)`, kept in step with `model` (the per-contact fast path's
+    /// kernel).
+    pub(crate) scene: Scene,
 }
 
 /// Parameters of the rolling law (`rsl_model_set_rolling`). Start from
@@ -148,6 +152,7 @@ unsafe fn update(
     change(&mut next)?;
     next.validate()?;
     m.model = next;
+    m.scene = Scene::classify(&next);
     Ok(())
 }
 
@@ -176,9 +181,11 @@ pub unsafe extern "C" fn rsl_model_new(preset: i32, out: *mut *mut rsl_model) ->
         // SAFETY: NULL and alignment checked; writability is the caller's contract.
         let out = unsafe { output(out, "out")? };
         let preset = parse_preset(preset)?;
+        let model = Model::with_preset(preset);
         let boxed = Box::new(rsl_model {
             magic: LIVE,
-            model: Model::with_preset(preset),
+            model,
+            scene: Scene::classify(&model),
         });
         *out = Box::into_raw(boxed);
         Ok(())

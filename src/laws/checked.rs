@@ -4,7 +4,7 @@
 use crate::decompose::{decompose_pair, decompose_wall, Parts, Sphere, Wall};
 use crate::error::Error;
 use crate::geometry::check_finite_vec;
-use crate::laws::model::{Model, Preset, RollingDamping, RollingLaw, RollingStiffness};
+use crate::laws::model::{Model, RollingDamping, RollingLaw};
 use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
 use nalgebra::RealField;
 
@@ -98,12 +98,7 @@ fn check_input<T: RealField + Copy>(
         }
     }
     let r = &model.rolling;
-    let needs_kn = (r.law == RollingLaw::Epsd
-        && matches!(
-            r.stiffness_rule,
-            RollingStiffness::Epsd | RollingStiffness::Epsd3
-        ))
-        || (r.law == RollingLaw::Cdt && model.preset == Preset::Liggghts38);
+    let needs_kn = model.needs_normal_stiffness();
     if needs_kn {
         positive(input.normal_stiffness, "normal_stiffness")?;
     }

@@ -2,6 +2,7 @@
 //! spring-dashpot-slider step, the per-contact step, and the time-step helpers.
 
 pub mod checked;
+pub mod fast_path;
 pub mod model;
 pub mod presets;
 pub mod spring;

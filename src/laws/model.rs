@@ -262,6 +262,18 @@ impl TwistingParams {
 }
 
 impl Model {
+    /// Whether a step reads the normal stiffness `k_n` (EPSD-derived rolling stiffness,
+    /// LIGGGHTS' cdt): it must then be finite and > 0.
+    pub fn needs_normal_stiffness(&self) -> bool {
+        let r = &self.rolling;
+        (r.law == RollingLaw::Epsd
+            && matches!(
+                r.stiffness_rule,
+                RollingStiffness::Epsd | RollingStiffness::Epsd3
+            ))
+            || (r.law == RollingLaw::Cdt && self.preset == Preset::Liggghts38)
+    }
+
     /// The model of a preset with every law off; the preset fixes the conventions (branch rule,
     /// rolling radius, transport, rolling form, damping mode) that its code uses.
     pub fn with_preset(preset: Preset) -> Model {
