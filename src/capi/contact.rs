@@ -6,12 +6,10 @@ use super::batch::Simd;
 use super::model::live_model;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{guard, input, output};
-use crate::batch::scene::Scene;
 use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
 use crate::laws::checked::contact_step_wall;
 use crate::laws::fast_path::contact_step_pair_fast;
-use crate::laws::model::Model;
 use crate::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
 use crate::laws::step::{ContactState, StepInput, StepOutput};
 
@@ -179,6 +177,7 @@ impl From<&rsl_contact_state> for ContactState<f64> {
     }
 }
 
+#[inline(always)]
 fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
     let known = RSL_INPUT_SLIDING_STIFFNESS
         | RSL_INPUT_SLIDING_DAMPING
@@ -219,6 +218,7 @@ fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
     })
 }
 
+#[inline(always)]
 fn slip_bits(o: &StepOutput<f64>) -> u32 {
     let mut bits = 0;
     for (slipped, bit) in
@@ -233,6 +233,7 @@ fn slip_bits(o: &StepOutput<f64>) -> u32 {
     bits
 }
 
+#[inline(always)]
 fn to_c(o: &StepOutput<f64>) -> rsl_contact_loads {
     let e = &o.energy;
     rsl_contact_loads {
@@ -259,6 +260,7 @@ fn to_c(o: &StepOutput<f64>) -> rsl_contact_loads {
     }
 }
 
+#[inline(always)]
 fn store(state: &mut rsl_contact_state, s: &ContactState<f64>, slip: u32) {
     state.sliding_spring = s.sliding_spring.into();
     state.rolling_spring = s.rolling_spring.into();
@@ -282,24 +284,26 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
     })
 }
 
-/// [`contact_step_pair_fast`], built with AVX2 (three-operand instructions, wider moves; no
-/// FMA contraction, so the same bits) when the CPU has it: the SSE2 build spends a third of its
-/// instructions on register copies.
+/// The whole of `rsl_contact_step` after the pointer checks: input conversion, the fast path
+/// ([`contact_step_pair_fast`]), the output and the state write, in one function so that no
+/// intermediate result is copied. Built with AVX2 when the CPU has it (three-operand
+/// instructions: the SSE2 build spends a third of its instructions on register copies; Rust
+/// never contracts to FMA, so the bits are the same).
 fn pair_step(
-    model: &Model,
-    scene: Scene,
-    body1: &Sphere<f64>,
-    body2: &Sphere<f64>,
-    input: &StepInput<f64>,
-    state: &mut ContactState<f64>,
-) -> Result<StepOutput<f64>, Error> {
+    m: &super::model::rsl_model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    out: &mut rsl_contact_loads,
+) -> Result<(), Error> {
     #[cfg(target_arch = "x86_64")]
     if Simd::Avx2.available() {
         // SAFETY: the CPU supports AVX2 and FMA (checked on the line above), the only
         // requirement of a `#[target_feature(enable = "avx2,fma")]` function.
-        return unsafe { pair_step_avx2(model, scene, body1, body2, input, state) };
+        return unsafe { pair_step_avx2(m, body1, body2, input, state, out) };
     }
-    contact_step_pair_fast(model, scene, body1, body2, input, state)
+    pair_step_body(m, body1, body2, input, state, out)
 }
 
 /// # Safety
@@ -307,14 +311,41 @@ fn pair_step(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn pair_step_avx2(
-    model: &Model,
-    scene: Scene,
-    body1: &Sphere<f64>,
-    body2: &Sphere<f64>,
-    input: &StepInput<f64>,
-    state: &mut ContactState<f64>,
-) -> Result<StepOutput<f64>, Error> {
-    contact_step_pair_fast(model, scene, body1, body2, input, state)
+    m: &super::model::rsl_model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    out: &mut rsl_contact_loads,
+) -> Result<(), Error> {
+    pair_step_body(m, body1, body2, input, state, out)
+}
+
+#[inline(always)]
+fn pair_step_body(
+    m: &super::model::rsl_model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    out: &mut rsl_contact_loads,
+) -> Result<(), Error> {
+    let step = step_input(input)?;
+    let mut s = ContactState::from(&*state);
+    let o = contact_step_pair_fast(
+        &m.model,
+        m.scene,
+        &Sphere::from(body1),
+        &Sphere::from(body2),
+        &step,
+        &mut s,
+    )?;
+    let loads = to_c(&o);
+    if !step.setup || m.model.preset.conventions().setup.store {
+        store(state, &s, loads.slip_flags);
+    }
+    *out = loads;
+    Ok(())
 }
 
 /// Steps one sphere-sphere contact: transports the springs, computes the rates, steps the
@@ -350,22 +381,7 @@ pub unsafe extern "C" fn rsl_contact_step(
                 output(out, "out")?,
             )
         };
-        let step = step_input(inp)?;
-        let mut s = ContactState::from(&*st);
-        let o = pair_step(
-            &m.model,
-            m.scene,
-            &Sphere::from(b1),
-            &Sphere::from(b2),
-            &step,
-            &mut s,
-        )?;
-        let loads = to_c(&o);
-        if !step.setup || m.model.preset.conventions().setup.store {
-            store(st, &s, loads.slip_flags);
-        }
-        *out = loads;
-        Ok(())
+        Ok(pair_step(m, b1, b2, inp, st, out)?)
     })
 }
 
