@@ -582,7 +582,9 @@ fn conv3<L: Lanes>(lo: &Vec3<L::Geo>, hi: &Vec3<L::Geo>) -> Vec3<L> {
     )
 }
 
-/// How many contacts ahead of the current chunk the kernels touch the scattered data.
+/// How many contacts ahead of the current chunk the kernels touch the scattered data and the
+/// state. Measured at 1M contacts (f64, AVX-512): 16 to 96 all give 51-54 ns/contact; without
+/// the state in the prefetch, 87 at every distance.
 const TOUCH_AHEAD: usize = 48;
 
 /// Bits `0..lanes` set.
