@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::Rng;
+use common::{full_model, Rng};
 use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene};
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_step, BatchConfig, Simd};
@@ -12,7 +12,7 @@ use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use rollslide::decompose::{decompose_pair, Parts, Sphere};
 use rollslide::error::Error;
 use rollslide::laws::checked::contact_step_pair;
-use rollslide::laws::model::{Model, Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
+use rollslide::laws::model::{Model, Preset, RollingLaw, Transport, TwistingLaw};
 use rollslide::laws::step::{ContactState, StepInput};
 use rollslide::GeometryOptions;
 
@@ -22,27 +22,6 @@ fn v(x: rollslide::scalar::Vec3<f64>) -> rsl_vec3 {
         y: x.y,
         z: x.z,
     }
-}
-
-/// Full law set (sliding + EPSD rolling + sds twisting) on a preset; `slip` makes the limits
-/// bite on a good part of the contacts.
-fn full_model(preset: Preset, transport: Transport) -> Model {
-    let mut m = Model::with_preset(preset);
-    m.sliding.law = SlidingLaw::Linear;
-    m.sliding.stiffness = 2.0e5;
-    m.sliding.damping = 30.0;
-    m.sliding.friction = 0.5;
-    m.rolling.law = RollingLaw::Epsd;
-    m.rolling.stiffness = 1.0e5;
-    m.rolling.damping = 10.0;
-    m.rolling.friction = 0.1;
-    m.twisting.law = TwistingLaw::Sds;
-    m.twisting.stiffness = 50.0;
-    m.twisting.damping = 0.5;
-    m.twisting.friction = 0.05;
-    m.sliding_transport = transport;
-    m.rolling_transport = transport;
-    m
 }
 
 /// The models of every scene kernel, plus two that run the generic kernel.

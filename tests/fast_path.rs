@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::Rng;
+use common::{full_model, Rng};
 use rollslide::batch::Scene;
 use rollslide::decompose::Sphere;
 use rollslide::laws::checked::contact_step_pair;
@@ -15,25 +15,6 @@ use rollslide::laws::model::{
 };
 use rollslide::laws::step::{ContactState, StepInput, StepOutput};
 use rollslide::scalar::Vec3;
-
-fn full_model(preset: Preset, transport: Transport) -> Model {
-    let mut m = Model::with_preset(preset);
-    m.sliding.law = SlidingLaw::Linear;
-    m.sliding.stiffness = 2.0e5;
-    m.sliding.damping = 30.0;
-    m.sliding.friction = 0.5;
-    m.rolling.law = RollingLaw::Epsd;
-    m.rolling.stiffness = 1.0e5;
-    m.rolling.damping = 10.0;
-    m.rolling.friction = 0.1;
-    m.twisting.law = TwistingLaw::Sds;
-    m.twisting.stiffness = 50.0;
-    m.twisting.damping = 0.5;
-    m.twisting.friction = 0.05;
-    m.sliding_transport = transport;
-    m.rolling_transport = transport;
-    m
-}
 
 /// Models of every scene kernel and several generic ones (energy tracking, YADE, LIGGGHTS'
 /// cdt with `k_n`, EPSD-derived stiffness, damping-ratio rolling damping, Marshall twisting).
@@ -129,7 +110,6 @@ fn case(rng: &mut Rng) -> Case {
 }
 
 fn bits(o: &StepOutput<f64>) -> Vec<u64> {
-    let e = &o.energy;
     let mut v = Vec::new();
     for x in [
         o.loads.force1,
@@ -142,20 +122,7 @@ fn bits(o: &StepOutput<f64>) -> Vec<u64> {
     ] {
         v.extend(x.iter().map(|c| c.to_bits()));
     }
-    for x in [
-        e.sliding.elastic,
-        e.sliding.dashpot,
-        e.sliding.slider,
-        e.rolling.elastic,
-        e.rolling.dashpot,
-        e.rolling.slider,
-        e.twisting.elastic,
-        e.twisting.dashpot,
-        e.twisting.slider,
-        e.transport,
-    ] {
-        v.push(x.to_bits());
-    }
+    v.extend(o.energy.terms().iter().map(|x| x.to_bits()));
     v.extend(o.slipped.iter().map(|&s| s as u64));
     v
 }

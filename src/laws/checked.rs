@@ -142,19 +142,7 @@ fn check_output<T: RealField + Copy>(
         check_finite_vec(v, what).map_err(|_| Error::NonFinite("result overflowed"))?;
     }
     // Every reported energy term too: a huge but finite spring can square to +inf.
-    let e = &out.energy;
-    let energies = [
-        e.sliding.elastic,
-        e.sliding.dashpot,
-        e.sliding.slider,
-        e.rolling.elastic,
-        e.rolling.dashpot,
-        e.rolling.slider,
-        e.twisting.elastic,
-        e.twisting.dashpot,
-        e.twisting.slider,
-        e.transport,
-    ];
+    let energies = out.energy.terms();
     if !energies.iter().all(|x| x.is_finite()) {
         return Err(Error::NonFinite("result overflowed (energy terms)"));
     }

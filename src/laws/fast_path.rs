@@ -93,21 +93,8 @@ fn inputs_valid(
 /// Whether every load, energy term and the new state are finite.
 #[inline(always)]
 fn outputs_finite(out: &StepOutput<f64>, state: &ContactState<f64>) -> bool {
-    let e = &out.energy;
-    let mut acc = 0.0;
-    for x in [
-        e.sliding.elastic,
-        e.sliding.dashpot,
-        e.sliding.slider,
-        e.rolling.elastic,
-        e.rolling.dashpot,
-        e.rolling.slider,
-        e.twisting.elastic,
-        e.twisting.dashpot,
-        e.twisting.slider,
-        e.transport,
-        state.twisting_angle,
-    ] {
+    let mut acc = zero_if_finite(state.twisting_angle);
+    for x in out.energy.terms() {
         acc += zero_if_finite(x);
     }
     let l = &out.loads;

@@ -136,6 +136,26 @@ pub struct StepEnergy<T> {
     pub transport: T,
 }
 
+impl<T: Copy> StepEnergy<T> {
+    /// Every term, in the order sliding (elastic, dashpot, slider), rolling (same), twisting
+    /// (same), transport.
+    pub fn terms(&self) -> [T; 10] {
+        let (s, r, t) = (&self.sliding, &self.rolling, &self.twisting);
+        [
+            s.elastic,
+            s.dashpot,
+            s.slider,
+            r.elastic,
+            r.dashpot,
+            r.slider,
+            t.elastic,
+            t.dashpot,
+            t.slider,
+            self.transport,
+        ]
+    }
+}
+
 /// The result of one contact step.
 #[derive(Clone, Copy, Debug)]
 pub struct StepOutput<T: Real> {

@@ -1,7 +1,29 @@
 //! Shared helpers of the integration tests: a seeded generator and tolerance checks.
 #![allow(dead_code)]
 
+use rollslide::laws::model::{Model, Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
 use rollslide::scalar::Vec3;
+
+/// Full law set (linear sliding + EPSD rolling + sds twisting) on a preset and transport, with
+/// limits that a good part of random contacts reach (the batch and fast-path tests).
+pub fn full_model(preset: Preset, transport: Transport) -> Model {
+    let mut m = Model::with_preset(preset);
+    m.sliding.law = SlidingLaw::Linear;
+    m.sliding.stiffness = 2.0e5;
+    m.sliding.damping = 30.0;
+    m.sliding.friction = 0.5;
+    m.rolling.law = RollingLaw::Epsd;
+    m.rolling.stiffness = 1.0e5;
+    m.rolling.damping = 10.0;
+    m.rolling.friction = 0.1;
+    m.twisting.law = TwistingLaw::Sds;
+    m.twisting.stiffness = 50.0;
+    m.twisting.damping = 0.5;
+    m.twisting.friction = 0.05;
+    m.sliding_transport = transport;
+    m.rolling_transport = transport;
+    m
+}
 
 /// SplitMix64: a small, seeded, reproducible generator (no dependency needed).
 pub struct Rng(u64);
