@@ -154,6 +154,7 @@ fn step_in_scene<const S: u8>(
 /// One checked step of a sphere pair, as [`contact_step_pair`] (same results, same errors,
 /// `state` written only on success), faster: `scene` must be [`Scene::classify`] of `model`.
 /// Inputs with overrides, a limit force or the setup pass go straight to the checked step.
+/// Inlined, so that a caller compiled with wider instructions (AVX2) runs it with them.
 #[inline(always)]
 pub fn contact_step_pair_fast(
     model: &Model,
