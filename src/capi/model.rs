@@ -487,3 +487,50 @@ pub unsafe extern "C" fn rsl_model_set_energy_tracking(model: *mut rsl_model, en
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::capi::status::{RSL_ERR_INVALID_PARAMETER, RSL_OK};
+
+    /// The scene the per-contact fast path runs is the model's current one after every setter,
+    /// and a refused setter changes neither.
+    #[test]
+    fn cached_scene_follows_every_setter() {
+        let mut p: *mut rsl_model = std::ptr::null_mut();
+        // SAFETY: `p` is a valid out pointer; every later call gets the live handle it receives,
+        // freed at the end.
+        unsafe {
+            assert_eq!(rsl_model_new(RSL_PRESET_LAMMPS_2021, &mut p), RSL_OK);
+            let scene = |p: *mut rsl_model| ((*p).scene, Scene::classify(&(*p).model));
+            let (cached, now) = scene(p);
+            assert_eq!(cached, now);
+            assert_eq!(
+                rsl_model_set_sliding(p, RSL_SLIDING_LINEAR, 1e5, 1.0, 0.5),
+                RSL_OK
+            );
+            assert_eq!(scene(p), (Scene::SlidingLammps, Scene::SlidingLammps));
+            // All-zero is a valid value of this plain struct of integers and doubles.
+            let mut r: rsl_rolling_params = std::mem::zeroed();
+            assert_eq!(rsl_model_get_rolling(p, &mut r), RSL_OK);
+            r.law = RSL_ROLLING_EPSD;
+            r.stiffness = 1e4;
+            r.friction = 0.1;
+            assert_eq!(rsl_model_set_rolling(p, &r), RSL_OK);
+            assert_eq!(
+                rsl_model_set_twisting(p, RSL_TWISTING_SDS, 10.0, 0.1, 0.05),
+                RSL_OK
+            );
+            assert_eq!(scene(p), (Scene::FullLammps, Scene::FullLammps));
+            assert_eq!(rsl_model_set_energy_tracking(p, 1), RSL_OK);
+            assert_eq!(scene(p), (Scene::Generic, Scene::Generic));
+            assert_eq!(rsl_model_set_energy_tracking(p, 0), RSL_OK);
+            assert_eq!(scene(p).0, Scene::FullLammps);
+            // Refused: the model and its scene stay.
+            let status = rsl_model_set_twisting(p, RSL_TWISTING_SDS, -1.0, 0.1, 0.05);
+            assert_eq!(status, RSL_ERR_INVALID_PARAMETER);
+            assert_eq!(scene(p), (Scene::FullLammps, Scene::FullLammps));
+            rsl_model_free(p);
+        }
+    }
+}
