@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{full_model, Rng};
+use common::{full_model, scene_models, Rng};
 use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene};
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_step, BatchConfig, Simd};
@@ -12,7 +12,7 @@ use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use rollslide::decompose::{decompose_pair, Parts, Sphere};
 use rollslide::error::Error;
 use rollslide::laws::checked::contact_step_pair;
-use rollslide::laws::model::{Model, Preset, RollingLaw, Transport, TwistingLaw};
+use rollslide::laws::model::{Model, Preset, RollingLaw, Transport};
 use rollslide::laws::step::{ContactState, StepInput};
 use rollslide::GeometryOptions;
 
@@ -27,29 +27,15 @@ fn v(x: rollslide::scalar::Vec3<f64>) -> rsl_vec3 {
 /// The models of every scene kernel, plus two that run the generic kernel.
 fn models() -> Vec<(Model, Scene)> {
     let full = full_model(Preset::Objective, Transport::Exact);
-    let lammps = full_model(Preset::Lammps2021, Transport::ProjectRescale);
-    let mut sliding = full;
-    sliding.rolling.law = RollingLaw::None;
-    sliding.twisting.law = TwistingLaw::None;
-    let mut slide_roll = full;
-    slide_roll.twisting.law = TwistingLaw::None;
-    let mut sliding_lammps = lammps;
-    sliding_lammps.rolling.law = RollingLaw::None;
-    sliding_lammps.twisting.law = TwistingLaw::None;
     let mut yade = full_model(Preset::Yade2023, Transport::FirstOrder);
     yade.rolling.form = rollslide::laws::model::RollingForm::Angle;
     let mut viscous = full;
     viscous.rolling.law = RollingLaw::Viscous;
     viscous.sliding_transport = Transport::FirstOrder;
-    vec![
-        (full, Scene::FullExact),
-        (lammps, Scene::FullLammps),
-        (sliding, Scene::SlidingExact),
-        (slide_roll, Scene::SlidingRollingExact),
-        (sliding_lammps, Scene::SlidingLammps),
-        (yade, Scene::Generic),
-        (viscous, Scene::Generic),
-    ]
+    let mut models = scene_models();
+    models.push((yade, Scene::Generic));
+    models.push((viscous, Scene::Generic));
+    models
 }
 
 /// Loads (force1, torque1, torque2) of one contact; `None` when the checked step refused it.

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{full_model, Rng};
+use common::{full_model, scene_models, Rng};
 use rollslide::batch::Scene;
 use rollslide::decompose::Sphere;
 use rollslide::laws::checked::contact_step_pair;
@@ -21,14 +21,6 @@ use rollslide::scalar::Vec3;
 fn models() -> Vec<Model> {
     let full = full_model(Preset::Objective, Transport::Exact);
     let lammps = full_model(Preset::Lammps2021, Transport::ProjectRescale);
-    let mut sliding = full;
-    sliding.rolling.law = RollingLaw::None;
-    sliding.twisting.law = TwistingLaw::None;
-    let mut slide_roll = full;
-    slide_roll.twisting.law = TwistingLaw::None;
-    let mut sliding_lammps = lammps;
-    sliding_lammps.rolling.law = RollingLaw::None;
-    sliding_lammps.twisting.law = TwistingLaw::None;
     let mut energy = full;
     energy.track_energy = true;
     let mut yade = full_model(Preset::Yade2023, Transport::FirstOrder);
@@ -42,19 +34,8 @@ fn models() -> Vec<Model> {
     ratio.rolling.damping = 0.3;
     let mut marshall = lammps;
     marshall.twisting.law = TwistingLaw::Marshall;
-    let models = vec![
-        full,
-        lammps,
-        sliding,
-        slide_roll,
-        sliding_lammps,
-        energy,
-        yade,
-        liggghts,
-        derived,
-        ratio,
-        marshall,
-    ];
+    let mut models: Vec<Model> = scene_models().into_iter().map(|(m, _)| m).collect();
+    models.extend([energy, yade, liggghts, derived, ratio, marshall]);
     for m in &models {
         m.validate().expect("test model is valid");
     }

@@ -1,6 +1,7 @@
 //! Shared helpers of the integration tests: a seeded generator and tolerance checks.
 #![allow(dead_code)]
 
+use rollslide::batch::Scene;
 use rollslide::laws::model::{Model, Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
 use rollslide::scalar::Vec3;
 
@@ -23,6 +24,27 @@ pub fn full_model(preset: Preset, transport: Transport) -> Model {
     m.sliding_transport = transport;
     m.rolling_transport = transport;
     m
+}
+
+/// One model per specialised scene kernel, with the scene it must get.
+pub fn scene_models() -> Vec<(Model, Scene)> {
+    let full = full_model(Preset::Objective, Transport::Exact);
+    let lammps = full_model(Preset::Lammps2021, Transport::ProjectRescale);
+    let mut sliding = full;
+    sliding.rolling.law = RollingLaw::None;
+    sliding.twisting.law = TwistingLaw::None;
+    let mut slide_roll = full;
+    slide_roll.twisting.law = TwistingLaw::None;
+    let mut sliding_lammps = lammps;
+    sliding_lammps.rolling.law = RollingLaw::None;
+    sliding_lammps.twisting.law = TwistingLaw::None;
+    vec![
+        (full, Scene::FullExact),
+        (lammps, Scene::FullLammps),
+        (sliding, Scene::SlidingExact),
+        (slide_roll, Scene::SlidingRollingExact),
+        (sliding_lammps, Scene::SlidingLammps),
+    ]
 }
 
 /// SplitMix64: a small, seeded, reproducible generator (no dependency needed).
