@@ -230,13 +230,24 @@ pub fn pair_geometry_valid<T: Real>(
     radius2: T,
     g: &ContactGeometry<T>,
 ) -> T::SimdBool {
-    let zero = T::zero();
-    let eps = T::simd_default_epsilon();
     let mut acc = zero_if_finite(radius1) + zero_if_finite(radius2) + zero_if_finite(g.distance);
     acc = finite_probe(acc, r1);
     acc = finite_probe(acc, r2);
-    acc.simd_eq(zero)
-        & radius1.simd_gt(zero)
+    acc.simd_eq(T::zero()) & pair_geometry_in_range(radius1, radius2, g)
+}
+
+/// [`pair_geometry_valid`] without its finiteness test (for a caller that has shown the
+/// centres, the radii and `g.distance` finite by other means): radii > 0,
+/// `d >= eps (R1 + R2)`, a normal of unit length to rounding, `l1, l2 > 0`.
+#[inline(always)]
+pub fn pair_geometry_in_range<T: Real>(
+    radius1: T,
+    radius2: T,
+    g: &ContactGeometry<T>,
+) -> T::SimdBool {
+    let zero = T::zero();
+    let eps = T::simd_default_epsilon();
+    radius1.simd_gt(zero)
         & radius2.simd_gt(zero)
         & g.distance.simd_ge(eps * (radius1 + radius2))
         // A distance whose square underflows (below ~1.5e-154) gives a normal that is not

@@ -66,3 +66,36 @@ pub fn zero_if_finite<T: Real>(x: T) -> T {
 pub fn finite_probe<T: Real>(acc: T, v: &Vec3<T>) -> T {
     acc + (zero_if_finite(v.x) + zero_if_finite(v.y) + zero_if_finite(v.z))
 }
+
+/// Running sums of many `f64` values, four independent sums (value `i` of each added array
+/// goes to sum `i % 4`, so four values adjacent in memory take one SIMD add): a quick test
+/// that a set of values is finite. The total is finite only if every value is (an infinity or
+/// a NaN makes it infinite or NaN), so [`FiniteSums::all_finite`] never says yes to a
+/// non-finite value; it says no to finite values whose sum overflows (beyond ~1.8e308), which
+/// a caller treats as "not shown finite" and checks one by one.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FiniteSums([f64; 4]);
+
+impl FiniteSums {
+    /// Adds `values`, value `i` to sum `i % 4`.
+    #[inline(always)]
+    pub fn add<const N: usize>(&mut self, values: [f64; N]) {
+        for (i, x) in values.into_iter().enumerate() {
+            self.0[i % 4] += x;
+        }
+    }
+
+    /// Adds the components of `v`.
+    #[inline(always)]
+    pub fn add_vec(&mut self, v: &Vec3<f64>) {
+        self.add([v.x, v.y, v.z]);
+    }
+
+    /// True when the total is finite, hence every value added is.
+    #[inline(always)]
+    pub fn all_finite(&self) -> bool {
+        let [a, b, c, d] = self.0;
+        let total = (a + b) + (c + d);
+        total.is_finite()
+    }
+}

@@ -6,10 +6,12 @@ use super::batch::Simd;
 use super::model::live_model;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{guard, input, output};
+use crate::batch::Scene;
 use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
-use crate::laws::checked::contact_step_wall;
-use crate::laws::fast_path::contact_step_pair_fast;
+use crate::laws::checked::{contact_step_pair, contact_step_wall};
+use crate::laws::fast_path::try_step_pair;
+use crate::laws::model::Model;
 use crate::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
 use crate::laws::step::{ContactState, StepInput, StepOutput};
 
@@ -284,12 +286,10 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
     })
 }
 
-/// The whole of `rsl_contact_step` after the pointer checks: input conversion, the fast path
-/// ([`contact_step_pair_fast`]), the output and the state write, in one function so that no
-/// intermediate result is copied. Built with AVX2 when the CPU has it (Rust never contracts to
-/// FMA, so the bits are the same): measured, the heap demo (generic scene: Marshall twisting)
-/// 9.3-9.4 s against 10.3-11.3 s for the SSE2 build; the benchmark's LAMMPS scene 79-81
-/// against 81 ns per call in cache.
+/// The whole of `rsl_contact_step` after the pointer checks: a plain input (no flag) goes to the
+/// fast path of the model's scene ([`fast_pair_step`]); anything else, and whatever the fast
+/// path's quick test refuses, to the checked step.
+#[inline(always)]
 fn pair_step(
     m: &super::model::rsl_model,
     body1: &rsl_sphere,
@@ -298,33 +298,122 @@ fn pair_step(
     state: &mut rsl_contact_state,
     out: &mut rsl_contact_loads,
 ) -> Result<(), Error> {
-    #[cfg(target_arch = "x86_64")]
-    if Simd::Avx2.available() {
-        // SAFETY: the CPU supports AVX2 and FMA (checked on the line above), the only
-        // requirement of a `#[target_feature(enable = "avx2,fma")]` function.
-        return unsafe { pair_step_avx2(m, body1, body2, input, state, out) };
+    debug_assert_eq!(
+        m.scene,
+        Scene::classify(&m.model),
+        "stale scene in the handle"
+    );
+    if input.flags == 0 {
+        // SAFETY: `fast_pair_step_for` gives AVX2 builds only when the CPU has AVX2 and FMA,
+        // the only requirement of those `#[target_feature]` functions; the others are safe.
+        if unsafe { (m.pair_fast_path)(&m.model, body1, body2, input, state, out) } {
+            return Ok(());
+        }
     }
-    pair_step_body(m, body1, body2, input, state, out)
+    pair_step_checked(&m.model, body1, body2, input, state, out)
 }
 
+/// A scene's fast path: writes the result and returns true, or returns false having written
+/// nothing.
+pub(crate) type FastPairStep = unsafe fn(
+    &Model,
+    &rsl_sphere,
+    &rsl_sphere,
+    &rsl_contact_input,
+    &mut rsl_contact_state,
+    &mut rsl_contact_loads,
+) -> bool;
+
+/// The fast path of `scene` (the model handle keeps it), built with AVX2 when the CPU has it
+/// (Rust never contracts to FMA, so the bits are the same). Measured (session 2), the heap
+/// demo (generic scene: Marshall twisting) 9.3-9.4 s against 10.3-11.3 s for the SSE2 build.
+pub(crate) fn fast_pair_step_for(scene: Scene) -> FastPairStep {
+    fast_pair_steps()[scene as usize]
+}
+
+/// The fast path of each scene, indexed by `Scene as usize` (the scene's code).
+fn fast_pair_steps() -> &'static [FastPairStep; 6] {
+    #[cfg(target_arch = "x86_64")]
+    if Simd::Avx2.available() {
+        return &[
+            fast_pair_step_avx2::<0>,
+            fast_pair_step_avx2::<1>,
+            fast_pair_step_avx2::<2>,
+            fast_pair_step_avx2::<3>,
+            fast_pair_step_avx2::<4>,
+            fast_pair_step_avx2::<5>,
+        ];
+    }
+    &[
+        fast_pair_step::<0>,
+        fast_pair_step::<1>,
+        fast_pair_step::<2>,
+        fast_pair_step::<3>,
+        fast_pair_step::<4>,
+        fast_pair_step::<5>,
+    ]
+}
+
+/// [`fast_pair_step`] built for AVX2 and FMA.
+///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn pair_step_avx2(
-    m: &super::model::rsl_model,
+unsafe fn fast_pair_step_avx2<const S: u8>(
+    model: &Model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
     out: &mut rsl_contact_loads,
-) -> Result<(), Error> {
-    pair_step_body(m, body1, body2, input, state, out)
+) -> bool {
+    fast_pair_step::<S>(model, body1, body2, input, state, out)
 }
 
+/// The fast path for scene code `S` ([`try_step_pair`]) on a plain input (`flags == 0`): on
+/// success writes `*out` and `*state` and returns true; otherwise writes nothing.
 #[inline(always)]
-fn pair_step_body(
-    m: &super::model::rsl_model,
+fn fast_pair_step<const S: u8>(
+    model: &Model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    out: &mut rsl_contact_loads,
+) -> bool {
+    let step = StepInput {
+        normal_stiffness: input.normal_stiffness,
+        contact_radius: input.contact_radius,
+        mass1: input.mass1,
+        mass2: input.mass2,
+        inertia1: input.inertia1,
+        inertia2: input.inertia2,
+        ..StepInput::new(input.normal_force, input.dt)
+    };
+    let (b1, b2, s) = (
+        Sphere::from(body1),
+        Sphere::from(body2),
+        ContactState::from(&*state),
+    );
+    match try_step_pair::<S>(model, &b1, &b2, &step, &s) {
+        Some((o, next)) => {
+            let loads = to_c(&o);
+            store(state, &next, loads.slip_flags);
+            *out = loads;
+            true
+        }
+        None => false,
+    }
+}
+
+/// `rsl_contact_step` through the checked step: inputs with overrides, a limit force or the
+/// setup pass, and whatever the fast path's quick test did not pass (the checked step gives
+/// the precise error). Kept out of line so that the fast path keeps its inputs in registers.
+#[inline(never)]
+#[cold]
+fn pair_step_checked(
+    model: &Model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
@@ -333,16 +422,15 @@ fn pair_step_body(
 ) -> Result<(), Error> {
     let step = step_input(input)?;
     let mut s = ContactState::from(&*state);
-    let o = contact_step_pair_fast(
-        &m.model,
-        m.scene,
+    let o = contact_step_pair(
+        model,
         &Sphere::from(body1),
         &Sphere::from(body2),
         &step,
         &mut s,
     )?;
     let loads = to_c(&o);
-    if !step.setup || m.model.preset.conventions().setup.store {
+    if !step.setup || model.preset.conventions().setup.store {
         store(state, &s, loads.slip_flags);
     }
     *out = loads;
@@ -470,4 +558,221 @@ pub unsafe extern "C" fn rsl_coupled_critical_time_step(
         *out = coupled_critical_time_step(k_t, k_theta, mass1, mass2, inertia1, inertia2, l1, l2)?;
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    //! `rsl_contact_step`'s fast path (a plain input) against its checked path, reached with a
+    //! sliding-stiffness override equal to the model's `k_t` (the same physics).
+    use super::*;
+    use crate::capi::model::rsl_model;
+    use crate::capi::status::RSL_OK;
+    use crate::laws::model::{Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
+    use crate::scalar::Vec3;
+
+    struct Lcg(u64);
+    impl Lcg {
+        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+        }
+        fn vec(&mut self, size: f64) -> rsl_vec3 {
+            rsl_vec3 {
+                x: self.uniform(-size, size),
+                y: self.uniform(-size, size),
+                z: self.uniform(-size, size),
+            }
+        }
+    }
+
+    fn models() -> Vec<Model> {
+        let mut full = Model::with_preset(Preset::Lammps2021);
+        full.sliding.law = SlidingLaw::Linear;
+        (
+            full.sliding.stiffness,
+            full.sliding.damping,
+            full.sliding.friction,
+        ) = (2e5, 30.0, 0.5);
+        full.rolling.law = RollingLaw::Epsd;
+        (
+            full.rolling.stiffness,
+            full.rolling.damping,
+            full.rolling.friction,
+        ) = (1e5, 10.0, 0.1);
+        full.twisting.law = TwistingLaw::Sds;
+        (full.twisting.stiffness, full.twisting.damping) = (50.0, 0.5);
+        full.twisting.friction = 0.05;
+        full.sliding_transport = Transport::ProjectRescale;
+        full.rolling_transport = Transport::ProjectRescale;
+        let mut exact = full;
+        exact.preset = Preset::Objective;
+        exact.sliding_transport = Transport::Exact;
+        exact.rolling_transport = Transport::Exact;
+        let mut energy = exact;
+        energy.track_energy = true;
+        let mut marshall = full;
+        marshall.twisting.law = TwistingLaw::Marshall;
+        let models = vec![full, exact, energy, marshall];
+        let scenes: Vec<Scene> = models.iter().map(Scene::classify).collect();
+        assert_eq!(scenes[..2], [Scene::FullLammps, Scene::FullExact]);
+        assert_eq!(scenes[2..], [Scene::Generic, Scene::Generic]);
+        models
+    }
+
+    type Case = (rsl_sphere, rsl_sphere, rsl_contact_input, rsl_contact_state);
+
+    fn case(rng: &mut Lcg) -> Case {
+        let (r1, r2) = (rng.uniform(0.5, 1.5), rng.uniform(0.5, 1.5));
+        let n = Vec3::from(rng.vec(1.0)).normalize();
+        let p1 = rng.vec(5.0);
+        let gap = (r1 + r2) * rng.uniform(0.97, 0.999);
+        let b1 = rsl_sphere {
+            position: p1,
+            velocity: rng.vec(0.5),
+            angular_velocity: rng.vec(3.0),
+            radius: r1,
+        };
+        let b2 = rsl_sphere {
+            position: (Vec3::from(p1) + n * gap).into(),
+            velocity: rng.vec(0.5),
+            angular_velocity: rng.vec(3.0),
+            radius: r2,
+        };
+        let input = rsl_contact_input {
+            normal_force: rng.uniform(0.0, 200.0),
+            dt: 1e-4,
+            normal_stiffness: 1e6,
+            mass1: 2.0,
+            mass2: 3.0,
+            inertia1: 0.4,
+            inertia2: 0.6,
+            ..Default::default()
+        };
+        let old = (n + Vec3::from(rng.vec(0.02))).normalize();
+        let tangent = |v: rsl_vec3| -> rsl_vec3 {
+            let v = Vec3::from(v);
+            (v - old * v.dot(&old)).into()
+        };
+        let state = rsl_contact_state {
+            sliding_spring: tangent(rng.vec(5e-4)),
+            rolling_spring: tangent(rng.vec(2e-4)),
+            twisting_angle: rng.uniform(-1e-2, 1e-2),
+            previous_normal: old.into(),
+            ..Default::default()
+        };
+        (b1, b2, input, state)
+    }
+
+    /// Steps `c` both ways; asserts the same status, the same bits out and the same state (the
+    /// caller's on a refusal). Returns the status.
+    fn same(handle: &rsl_model, c: &Case, what: &str) -> i32 {
+        let (b1, b2, input, state0) = c;
+        let mut checked_input = *input;
+        checked_input.flags = RSL_INPUT_SLIDING_STIFFNESS;
+        checked_input.sliding_stiffness = handle.model.sliding.stiffness;
+        let mut runs = Vec::new();
+        for i in [input, &checked_input] {
+            let (mut state, mut out) = (*state0, rsl_contact_loads::default());
+            out.reserved = 7; // must stay on a refusal
+                              // SAFETY: every pointer is to a live local of the right type; none overlap.
+            let status = unsafe { rsl_contact_step(handle, b1, b2, i, &mut state, &mut out) };
+            runs.push((status, state, out));
+        }
+        let bits = |(status, s, o): &(i32, rsl_contact_state, rsl_contact_loads)| {
+            // Bits, so that NaN compares and -0 differs from 0.
+            let v = |v: &rsl_vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+            let mut b = vec![
+                *status as u64,
+                s.twisting_angle.to_bits(),
+                s.slip_flags as u64,
+            ];
+            for x in [&s.sliding_spring, &s.rolling_spring, &s.twisting_offaxis] {
+                b.extend(v(x));
+            }
+            b.extend(v(&s.previous_normal));
+            for x in [&o.force1, &o.torque1, &o.torque2, &o.sliding_force] {
+                b.extend(v(x));
+            }
+            b.extend(
+                v(&o.rolling_moment)
+                    .into_iter()
+                    .chain(v(&o.twisting_torque)),
+            );
+            let e = &o.energy;
+            b.extend(
+                [
+                    e.elastic_sliding,
+                    e.dashpot_rolling,
+                    e.slider_twisting,
+                    e.transport,
+                ]
+                .map(f64::to_bits),
+            );
+            b.extend([o.slip_flags as u64, o.reserved as u64]);
+            b
+        };
+        assert_eq!(
+            bits(&runs[0]),
+            bits(&runs[1]),
+            "{what}: fast and checked paths differ"
+        );
+        if runs[0].0 != RSL_OK {
+            let untouched = (RSL_OK, *state0, runs[0].2);
+            assert_eq!(
+                bits(&runs[0])[1..],
+                bits(&untouched)[1..],
+                "{what}: state written"
+            );
+            assert_eq!(
+                runs[0].2.reserved, 7,
+                "{what}: a refused step wrote the output"
+            );
+        }
+        runs[0].0
+    }
+
+    #[test]
+    fn fast_path_gives_the_checked_paths_bits_and_errors() {
+        let mut rng = Lcg(3);
+        let pokes: [fn(&mut Case, f64); 9] = [
+            |c, x| c.2.normal_force = x,
+            |c, x| c.2.dt = x,
+            |c, x| c.2.mass2 = x,
+            |c, x| c.0.radius = x,
+            |c, x| c.1.position.z = x,
+            |c, x| c.0.angular_velocity.y = x,
+            |c, x| c.3.rolling_spring.x = x,
+            |c, x| c.3.twisting_offaxis.y = x,
+            |c, x| c.3.previous_normal.z = x,
+        ];
+        let (mut accepted, mut refused) = (0, 0);
+        for model in models() {
+            let handle = rsl_model::live(model);
+            for _ in 0..300 {
+                let mut c = case(&mut rng);
+                for _ in 0..3 {
+                    assert_eq!(same(&handle, &c, "plain"), RSL_OK);
+                    accepted += 1;
+                    // The next step from the new state (the fast path's).
+                    let mut out = rsl_contact_loads::default();
+                    // SAFETY: as in `same`.
+                    unsafe { rsl_contact_step(&handle, &c.0, &c.1, &c.2, &mut c.3, &mut out) };
+                }
+            }
+            for poke in pokes {
+                for x in [f64::NAN, f64::INFINITY, -1.0, 0.0, 1e300] {
+                    let mut c = case(&mut rng);
+                    poke(&mut c, x);
+                    if same(&handle, &c, &format!("poked with {x}")) != RSL_OK {
+                        refused += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(accepted, 3600);
+        assert!(refused > 80, "only {refused} refusals");
+    }
 }

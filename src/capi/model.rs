@@ -5,6 +5,7 @@
 use super::status::FfiError;
 use super::{guard, input, output};
 use crate::batch::scene::Scene;
+use crate::capi::contact::{fast_pair_step_for, FastPairStep};
 use crate::error::Error;
 use crate::geometry::GeometryOptions;
 use crate::laws::model::{
@@ -89,6 +90,21 @@ pub struct rsl_model {
     /// `Scene::classify(&model)`, kept in step with `model` (the per-contact fast path's
     /// kernel).
     pub(crate) scene: Scene,
+    /// The fast path of `scene` for this CPU, chosen once here rather than per call.
+    pub(crate) pair_fast_path: FastPairStep,
+}
+
+impl rsl_model {
+    /// A live handle of `model` (already validated), with its scene and that scene's fast path.
+    pub(crate) fn live(model: Model) -> Self {
+        let scene = Scene::classify(&model);
+        rsl_model {
+            magic: LIVE,
+            model,
+            scene,
+            pair_fast_path: fast_pair_step_for(scene),
+        }
+    }
 }
 
 /// Parameters of the rolling law (`rsl_model_set_rolling`). Start from
@@ -151,8 +167,7 @@ unsafe fn update(
     let mut next = m.model;
     change(&mut next)?;
     next.validate()?;
-    m.model = next;
-    m.scene = Scene::classify(&next);
+    *m = rsl_model::live(next);
     Ok(())
 }
 
@@ -182,11 +197,7 @@ pub unsafe extern "C" fn rsl_model_new(preset: i32, out: *mut *mut rsl_model) ->
         let out = unsafe { output(out, "out")? };
         let preset = parse_preset(preset)?;
         let model = Model::with_preset(preset);
-        let boxed = Box::new(rsl_model {
-            magic: LIVE,
-            model,
-            scene: Scene::classify(&model),
-        });
+        let boxed = Box::new(rsl_model::live(model));
         *out = Box::into_raw(boxed);
         Ok(())
     })
@@ -493,8 +504,8 @@ mod tests {
     use super::*;
     use crate::capi::status::{RSL_ERR_INVALID_PARAMETER, RSL_OK};
 
-    /// The scene the per-contact fast path runs is the model's current one after every setter,
-    /// and a refused setter changes neither.
+    /// The scene the per-contact fast path runs (and that scene's fast path) is the model's
+    /// current one after every setter, and a refused setter changes neither.
     #[test]
     fn cached_scene_follows_every_setter() {
         let mut p: *mut rsl_model = std::ptr::null_mut();
@@ -502,7 +513,16 @@ mod tests {
         // freed at the end.
         unsafe {
             assert_eq!(rsl_model_new(RSL_PRESET_LAMMPS_2021, &mut p), RSL_OK);
-            let scene = |p: *mut rsl_model| ((*p).scene, Scene::classify(&(*p).model));
+            let scene = |p: *mut rsl_model| {
+                // The fast path the handle calls is its scene's (same table entry).
+                let expected = fast_pair_step_for((*p).scene) as usize;
+                assert_eq!(
+                    (*p).pair_fast_path as usize,
+                    expected,
+                    "another scene's path"
+                );
+                ((*p).scene, Scene::classify(&(*p).model))
+            };
             let (cached, now) = scene(p);
             assert_eq!(cached, now);
             assert_eq!(

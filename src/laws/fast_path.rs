@@ -13,11 +13,11 @@
 use crate::batch::scene::{fold, Scene};
 use crate::decompose::Sphere;
 use crate::error::Error;
-use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid};
+use crate::geometry::{pair_geometry_in_range, pair_geometry_unchecked, ContactGeometry};
 use crate::laws::checked::contact_step_pair;
 use crate::laws::model::{Model, RollingDamping, RollingLaw};
 use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
-use crate::scalar::{finite_probe, zero_if_finite};
+use crate::scalar::FiniteSums;
 
 /// True when `input` has no per-contact override, no limit force and is not the setup pass:
 /// the only inputs the fast path takes.
@@ -34,17 +34,58 @@ fn plain(input: &StepInput<f64>) -> bool {
         && input.limit_force.is_none()
 }
 
-/// The inputs the checked step would accept, tested without a branch per field (stricter in one
-/// place: a fixed body 2, `mass2` or `inertia2` +inf, is left to the checked step).
+/// The values of a sphere in the memory order of the C `rsl_sphere` (centre, velocity, angular
+/// velocity, radius), so that four adjacent ones take one SIMD add in [`FiniteSums`].
+#[inline(always)]
+fn sphere_values(b: &Sphere<f64>) -> [f64; 10] {
+    let (p, v, w) = (&b.position, &b.velocity, &b.angular_velocity);
+    [p.x, p.y, p.z, v.x, v.y, v.z, w.x, w.y, w.z, b.radius]
+}
+
+/// The values of a state in the memory order of the C `rsl_contact_state`.
+#[inline(always)]
+fn state_values(s: &ContactState<f64>) -> [f64; 13] {
+    let (a, b, c, d) = (
+        &s.sliding_spring,
+        &s.rolling_spring,
+        &s.twisting_offaxis,
+        &s.previous_normal,
+    );
+    [
+        a.x,
+        a.y,
+        a.z,
+        b.x,
+        b.y,
+        b.z,
+        s.twisting_angle,
+        c.x,
+        c.y,
+        c.z,
+        d.x,
+        d.y,
+        d.z,
+    ]
+}
+
+/// The inputs the checked step would accept, tested without a branch per field: every value
+/// finite (both spheres, the inputs, the state, the distance; see [`FiniteSums`]) and each in
+/// its range. Stricter than the checked step in two places, both left to it: a fixed body 2
+/// (`mass2` or `inertia2` +inf), and finite values whose sum overflows.
 #[inline(always)]
 fn inputs_valid(
     model: &Model,
     body1: &Sphere<f64>,
     body2: &Sphere<f64>,
+    g: &ContactGeometry<f64>,
     input: &StepInput<f64>,
     state: &ContactState<f64>,
 ) -> bool {
-    let scalars = [
+    let mut sums = FiniteSums::default();
+    sums.add(sphere_values(body1));
+    sums.add(sphere_values(body2));
+    sums.add(state_values(state));
+    sums.add([
         input.normal_force,
         input.dt,
         input.normal_stiffness,
@@ -53,33 +94,20 @@ fn inputs_valid(
         input.mass2,
         input.inertia1,
         input.inertia2,
-        state.twisting_angle,
-    ];
-    let mut acc = 0.0;
-    for x in scalars {
-        acc += zero_if_finite(x);
-    }
-    for v in [
-        &body1.velocity,
-        &body1.angular_velocity,
-        &body2.velocity,
-        &body2.angular_velocity,
-        &state.sliding_spring,
-        &state.rolling_spring,
-        &state.twisting_offaxis,
-        &state.previous_normal,
-    ] {
-        acc = finite_probe(acc, v);
-    }
-    let mut ok = (acc == 0.0)
-        & (input.normal_force >= 0.0)
-        & (input.dt > 0.0)
-        & (input.normal_stiffness >= 0.0)
-        & (input.contact_radius >= 0.0)
-        & (input.mass1 >= 0.0)
-        & (input.mass2 >= 0.0)
-        & (input.inertia1 >= 0.0)
-        & (input.inertia2 >= 0.0);
+        g.distance,
+    ]);
+    // Non-negative inputs: their minimum is (NaNs were excluded by the sums; -0 passes, as
+    // it does in the checked step).
+    let smallest = input
+        .normal_force
+        .min(input.normal_stiffness)
+        .min(input.contact_radius)
+        .min(input.mass1.min(input.mass2))
+        .min(input.inertia1.min(input.inertia2));
+    let mut ok = sums.all_finite()
+        & pair_geometry_in_range(body1.radius, body2.radius, g)
+        & (smallest >= 0.0)
+        & (input.dt > 0.0);
     if model.needs_normal_stiffness() {
         ok &= input.normal_stiffness > 0.0;
     }
@@ -90,13 +118,11 @@ fn inputs_valid(
     ok
 }
 
-/// Whether every load, energy term and the new state are finite.
+/// Whether every load, the new state and (when the model tracks energy; otherwise they are 0)
+/// every energy term are finite, as the checked step requires.
 #[inline(always)]
-fn outputs_finite(out: &StepOutput<f64>, state: &ContactState<f64>) -> bool {
-    let mut acc = zero_if_finite(state.twisting_angle);
-    for x in out.energy.terms() {
-        acc += zero_if_finite(x);
-    }
+fn outputs_finite(model: &Model, out: &StepOutput<f64>, state: &ContactState<f64>) -> bool {
+    let mut sums = FiniteSums::default();
     let l = &out.loads;
     for v in [
         &l.force1,
@@ -105,25 +131,31 @@ fn outputs_finite(out: &StepOutput<f64>, state: &ContactState<f64>) -> bool {
         &out.sliding_force,
         &out.rolling_moment,
         &out.twisting_torque,
-        &state.sliding_spring,
-        &state.rolling_spring,
-        &state.twisting_offaxis,
-        &state.previous_normal,
     ] {
-        acc = finite_probe(acc, v);
+        sums.add_vec(v);
     }
-    acc == 0.0
+    sums.add(state_values(state));
+    if model.track_energy {
+        sums.add(out.energy.terms());
+    }
+    sums.all_finite()
 }
 
-/// The fast path for the scene code `S` (see the module documentation).
+/// The fast path for the scene code `S`: the step's output and the new state when the quick
+/// test passes and every result is finite, `None` otherwise (the caller then runs the checked
+/// step, which gives the error, or for the few inputs the quick test is stricter about, the
+/// result). `input` must be plain (no override, no limit force, not the setup pass) and `S`
+/// must be the code of [`Scene::classify`] of `model`. Nothing here is passed by reference to
+/// a function that is not inlined, so the compiler keeps the inputs in registers.
 #[inline(always)]
-fn step_in_scene<const S: u8>(
+pub fn try_step_pair<const S: u8>(
     model: &Model,
     body1: &Sphere<f64>,
     body2: &Sphere<f64>,
     input: &StepInput<f64>,
-    state: &mut ContactState<f64>,
-) -> Result<StepOutput<f64>, Error> {
+    state: &ContactState<f64>,
+) -> Option<(StepOutput<f64>, ContactState<f64>)> {
+    debug_assert!(plain(input));
     let folded = fold(Scene::from_code(S), model);
     let g = pair_geometry_unchecked(
         &body1.position,
@@ -132,29 +164,19 @@ fn step_in_scene<const S: u8>(
         body2.radius,
         folded.geometry,
     );
-    let valid = pair_geometry_valid(
-        &body1.position,
-        &body2.position,
-        body1.radius,
-        body2.radius,
-        &g,
-    ) & inputs_valid(&folded, body1, body2, input, state);
-    if valid {
-        let mut next = *state;
-        let out =
-            contact_step_with_geometry(&folded, g, body1, Partner::Sphere(body2), input, &mut next);
-        if outputs_finite(&out, &next) {
-            *state = next;
-            return Ok(out);
-        }
+    let valid = inputs_valid(&folded, body1, body2, &g, input, state);
+    if !valid {
+        return None;
     }
-    contact_step_pair(model, body1, body2, input, state)
+    let mut next = *state;
+    let out =
+        contact_step_with_geometry(&folded, g, body1, Partner::Sphere(body2), input, &mut next);
+    outputs_finite(&folded, &out, &next).then_some((out, next))
 }
 
 /// One checked step of a sphere pair, as [`contact_step_pair`] (same results, same errors,
 /// `state` written only on success), faster: `scene` must be [`Scene::classify`] of `model`.
 /// Inputs with overrides, a limit force or the setup pass go straight to the checked step.
-/// Inlined, so that a caller compiled with wider instructions (AVX2) runs it with them.
 #[inline(always)]
 pub fn contact_step_pair_fast(
     model: &Model,
@@ -164,15 +186,19 @@ pub fn contact_step_pair_fast(
     input: &StepInput<f64>,
     state: &mut ContactState<f64>,
 ) -> Result<StepOutput<f64>, Error> {
-    if !plain(input) {
-        return contact_step_pair(model, body1, body2, input, state);
+    if plain(input) {
+        let fast = match scene {
+            Scene::Generic => try_step_pair::<0>(model, body1, body2, input, state),
+            Scene::FullExact => try_step_pair::<1>(model, body1, body2, input, state),
+            Scene::FullLammps => try_step_pair::<2>(model, body1, body2, input, state),
+            Scene::SlidingExact => try_step_pair::<3>(model, body1, body2, input, state),
+            Scene::SlidingRollingExact => try_step_pair::<4>(model, body1, body2, input, state),
+            Scene::SlidingLammps => try_step_pair::<5>(model, body1, body2, input, state),
+        };
+        if let Some((out, next)) = fast {
+            *state = next;
+            return Ok(out);
+        }
     }
-    match scene {
-        Scene::Generic => step_in_scene::<0>(model, body1, body2, input, state),
-        Scene::FullExact => step_in_scene::<1>(model, body1, body2, input, state),
-        Scene::FullLammps => step_in_scene::<2>(model, body1, body2, input, state),
-        Scene::SlidingExact => step_in_scene::<3>(model, body1, body2, input, state),
-        Scene::SlidingRollingExact => step_in_scene::<4>(model, body1, body2, input, state),
-        Scene::SlidingLammps => step_in_scene::<5>(model, body1, body2, input, state),
-    }
+    contact_step_pair(model, body1, body2, input, state)
 }
