@@ -3,17 +3,22 @@
 #![allow(non_camel_case_types)]
 
 use super::batch::Simd;
+#[cfg(target_arch = "x86_64")]
+use super::finite::Avx2;
+use super::finite::{FiniteTest, Portable};
 use super::model::live_model;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{guard, input, output};
+use crate::batch::scene::fold;
 use crate::batch::Scene;
 use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
 use crate::laws::checked::{contact_step_pair, contact_step_wall};
-use crate::laws::fast_path::try_step_pair;
+use crate::laws::fast_path::step_pair_if_valid;
 use crate::laws::model::Model;
 use crate::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
 use crate::laws::step::{ContactState, StepInput, StepOutput};
+use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 pub const RSL_INPUT_SLIDING_STIFFNESS: u32 = 1;
@@ -286,33 +291,6 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
     })
 }
 
-/// The whole of `rsl_contact_step` after the pointer checks: a plain input (no flag) goes to the
-/// fast path of the model's scene ([`fast_pair_step`]); anything else, and whatever the fast
-/// path's quick test refuses, to the checked step.
-#[inline(always)]
-fn pair_step(
-    m: &super::model::rsl_model,
-    body1: &rsl_sphere,
-    body2: &rsl_sphere,
-    input: &rsl_contact_input,
-    state: &mut rsl_contact_state,
-    out: &mut rsl_contact_loads,
-) -> Result<(), Error> {
-    debug_assert_eq!(
-        m.scene,
-        Scene::classify(&m.model),
-        "stale scene in the handle"
-    );
-    if input.flags == 0 {
-        // SAFETY: `fast_pair_step_for` gives AVX2 builds only when the CPU has AVX2 and FMA,
-        // the only requirement of those `#[target_feature]` functions; the others are safe.
-        if unsafe { (m.pair_fast_path)(&m.model, body1, body2, input, state, out) } {
-            return Ok(());
-        }
-    }
-    pair_step_checked(&m.model, body1, body2, input, state, out)
-}
-
 /// A scene's fast path: writes the result and returns true, or returns false having written
 /// nothing.
 pub(crate) type FastPairStep = unsafe fn(
@@ -324,37 +302,55 @@ pub(crate) type FastPairStep = unsafe fn(
     &mut rsl_contact_loads,
 ) -> bool;
 
-/// The fast path of `scene` (the model handle keeps it), built with AVX2 when the CPU has it
-/// (Rust never contracts to FMA, so the bits are the same). Measured (session 2), the heap
-/// demo (generic scene: Marshall twisting) 9.3-9.4 s against 10.3-11.3 s for the SSE2 build.
+/// The fast path of `scene` (the model handle keeps it), built for the widest vector level
+/// this CPU has (Rust never contracts to FMA, so every build gives the same bits). Measured
+/// (session 2), the heap demo (generic scene: Marshall twisting) 9.3-9.4 s with the AVX2 build
+/// against 10.3-11.3 s with the SSE2 one.
 pub(crate) fn fast_pair_step_for(scene: Scene) -> FastPairStep {
-    fast_pair_steps()[scene as usize]
+    let table = [Simd::Avx512, Simd::Avx2, Simd::Scalar]
+        .into_iter()
+        .find_map(fast_pair_steps)
+        .expect("the portable build is always available");
+    table[scene as usize]
 }
 
-/// The fast path of each scene, indexed by `Scene as usize` (the scene's code).
-fn fast_pair_steps() -> &'static [FastPairStep; 6] {
-    #[cfg(target_arch = "x86_64")]
-    if Simd::Avx2.available() {
-        return &[
+/// The fast path of each scene built for `level` (indexed by `Scene as usize`, the scene's
+/// code), if this CPU has that level.
+fn fast_pair_steps(level: Simd) -> Option<&'static [FastPairStep; 6]> {
+    if !level.available() {
+        return None;
+    }
+    Some(match level {
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx512 => &[
+            fast_pair_step_avx512::<0>,
+            fast_pair_step_avx512::<1>,
+            fast_pair_step_avx512::<2>,
+            fast_pair_step_avx512::<3>,
+            fast_pair_step_avx512::<4>,
+            fast_pair_step_avx512::<5>,
+        ],
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx2 => &[
             fast_pair_step_avx2::<0>,
             fast_pair_step_avx2::<1>,
             fast_pair_step_avx2::<2>,
             fast_pair_step_avx2::<3>,
             fast_pair_step_avx2::<4>,
             fast_pair_step_avx2::<5>,
-        ];
-    }
-    &[
-        fast_pair_step::<0>,
-        fast_pair_step::<1>,
-        fast_pair_step::<2>,
-        fast_pair_step::<3>,
-        fast_pair_step::<4>,
-        fast_pair_step::<5>,
-    ]
+        ],
+        _ => &[
+            fast_pair_step_portable::<0>,
+            fast_pair_step_portable::<1>,
+            fast_pair_step_portable::<2>,
+            fast_pair_step_portable::<3>,
+            fast_pair_step_portable::<4>,
+            fast_pair_step_portable::<5>,
+        ],
+    })
 }
 
-/// [`fast_pair_step`] built for AVX2 and FMA.
+/// [`fast_pair_step`] built for AVX2 and FMA, with the AVX2 finiteness tests.
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
@@ -368,13 +364,49 @@ unsafe fn fast_pair_step_avx2<const S: u8>(
     state: &mut rsl_contact_state,
     out: &mut rsl_contact_loads,
 ) -> bool {
-    fast_pair_step::<S>(model, body1, body2, input, state, out)
+    // SAFETY: this function's own contract: the CPU has AVX2.
+    let test = unsafe { Avx2::assume() };
+    fast_pair_step::<S, _>(test, model, body1, body2, input, state, out)
 }
 
-/// The fast path for scene code `S` ([`try_step_pair`]) on a plain input (`flags == 0`): on
-/// success writes `*out` and `*state` and returns true; otherwise writes nothing.
+/// [`fast_pair_step`] built for AVX-512 (32 vector registers instead of 16: fewer spills),
+/// with the AVX2 finiteness tests.
+///
+/// # Safety
+/// The CPU must support what `Simd::Avx512.available()` tests (AVX-512 F/VL/DQ/BW, AVX2, FMA).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+unsafe fn fast_pair_step_avx512<const S: u8>(
+    model: &Model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    out: &mut rsl_contact_loads,
+) -> bool {
+    // SAFETY: this function's own contract: the CPU has AVX2.
+    let test = unsafe { Avx2::assume() };
+    fast_pair_step::<S, _>(test, model, body1, body2, input, state, out)
+}
+
+/// [`fast_pair_step`] for any CPU.
+fn fast_pair_step_portable<const S: u8>(
+    model: &Model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    out: &mut rsl_contact_loads,
+) -> bool {
+    fast_pair_step::<S, _>(Portable, model, body1, body2, input, state, out)
+}
+
+/// The fast path for scene code `S` ([`step_pair_if_valid`]) on a plain input (`flags == 0`),
+/// with `test` for the finiteness of the inputs and of the results: on success writes `*out`
+/// and `*state` and returns true; otherwise writes nothing.
 #[inline(always)]
-fn fast_pair_step<const S: u8>(
+fn fast_pair_step<const S: u8, F: FiniteTest>(
+    test: F,
     model: &Model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
@@ -391,20 +423,25 @@ fn fast_pair_step<const S: u8>(
         inertia2: input.inertia2,
         ..StepInput::new(input.normal_force, input.dt)
     };
+    let finite = test.inputs(body1, body2, input, state);
     let (b1, b2, s) = (
         Sphere::from(body1),
         Sphere::from(body2),
         ContactState::from(&*state),
     );
-    match try_step_pair::<S>(model, &b1, &b2, &step, &s) {
-        Some((o, next)) => {
-            let loads = to_c(&o);
-            store(state, &next, loads.slip_flags);
-            *out = loads;
-            true
-        }
-        None => false,
+    let Some((o, next)) = step_pair_if_valid::<S>(model, &b1, &b2, &step, &s, finite) else {
+        return false;
+    };
+    let loads = to_c(&o);
+    let mut new_state = *state;
+    store(&mut new_state, &next, loads.slip_flags);
+    let energy = fold(Scene::from_code(S), model).track_energy;
+    if !test.outputs(&loads, &new_state, energy) {
+        return false;
     }
+    *state = new_state;
+    *out = loads;
+    true
 }
 
 /// `rsl_contact_step` through the checked step: inputs with overrides, a limit force or the
@@ -458,6 +495,37 @@ pub unsafe extern "C" fn rsl_contact_step(
     state: *mut rsl_contact_state,
     out: *mut rsl_contact_loads,
 ) -> i32 {
+    if all_set_and_aligned(&[
+        model as usize,
+        body1 as usize,
+        body2 as usize,
+        contact as usize,
+        state as usize,
+        out as usize,
+    ]) {
+        // SAFETY: every pointer is non-NULL and 8-aligned (tested just above; 8 is the
+        // alignment of each type, asserted below); validity, liveness and no overlap of the
+        // outputs are the caller's contract stated above.
+        let (m, b1, b2, inp, st, o) =
+            unsafe { (&*model, &*body1, &*body2, &*contact, &mut *state, &mut *out) };
+        if m.is_live() && inp.flags == 0 {
+            debug_assert_eq!(
+                m.scene,
+                Scene::classify(&m.model),
+                "stale scene in the handle"
+            );
+            // The fast path behind its own panic boundary: a panic there (none is known) only
+            // sends the step to the checked path below, which has the reporting one.
+            let fast = catch_unwind(AssertUnwindSafe(|| {
+                // SAFETY: the handle's fast path is an AVX2 or AVX-512 build only when the CPU
+                // has those features (`fast_pair_step_for`), their only requirement.
+                unsafe { (m.pair_fast_path)(&m.model, b1, b2, inp, st, o) }
+            }));
+            if let Ok(true) = fast {
+                return super::status::RSL_OK;
+            }
+        }
+    }
     guard(|| {
         // SAFETY: forwarded contract; every helper checks NULL and alignment.
         let (m, b1, b2, inp, st, out) = unsafe {
@@ -470,8 +538,25 @@ pub unsafe extern "C" fn rsl_contact_step(
                 output(out, "out")?,
             )
         };
-        Ok(pair_step(m, b1, b2, inp, st, out)?)
+        Ok(pair_step_checked(&m.model, b1, b2, inp, st, out)?)
     })
+}
+
+// The per-contact fast path tests every pointer for 8-byte alignment at once.
+const _: () = {
+    assert!(std::mem::align_of::<super::model::rsl_model>() == 8);
+    assert!(std::mem::align_of::<rsl_sphere>() == 8);
+    assert!(std::mem::align_of::<rsl_contact_input>() == 8);
+    assert!(std::mem::align_of::<rsl_contact_state>() == 8);
+    assert!(std::mem::align_of::<rsl_contact_loads>() == 8);
+};
+
+/// Whether every address is non-zero and a multiple of 8, tested without a branch per address.
+#[inline(always)]
+fn all_set_and_aligned(addresses: &[usize]) -> bool {
+    let set = addresses.iter().fold(true, |ok, &a| ok & (a != 0));
+    let bits = addresses.iter().fold(0, |acc, &a| acc | a);
+    set & (bits % 8 == 0)
 }
 
 /// Steps one sphere-wall contact (body 2 is the wall); as `rsl_contact_step`.
@@ -737,42 +822,80 @@ mod tests {
     #[test]
     fn fast_path_gives_the_checked_paths_bits_and_errors() {
         let mut rng = Lcg(3);
-        let pokes: [fn(&mut Case, f64); 9] = [
-            |c, x| c.2.normal_force = x,
-            |c, x| c.2.dt = x,
-            |c, x| c.2.mass2 = x,
-            |c, x| c.0.radius = x,
-            |c, x| c.1.position.z = x,
-            |c, x| c.0.angular_velocity.y = x,
-            |c, x| c.3.rolling_spring.x = x,
-            |c, x| c.3.twisting_offaxis.y = x,
-            |c, x| c.3.previous_normal.z = x,
-        ];
-        let (mut accepted, mut refused) = (0, 0);
-        for model in models() {
-            let handle = rsl_model::live(model);
-            for _ in 0..300 {
-                let mut c = case(&mut rng);
-                for _ in 0..3 {
-                    assert_eq!(same(&handle, &c, "plain"), RSL_OK);
-                    accepted += 1;
-                    // The next step from the new state (the fast path's).
-                    let mut out = rsl_contact_loads::default();
-                    // SAFETY: as in `same`.
-                    unsafe { rsl_contact_step(&handle, &c.0, &c.1, &c.2, &mut c.3, &mut out) };
-                }
-            }
-            for poke in pokes {
-                for x in [f64::NAN, f64::INFINITY, -1.0, 0.0, 1e300] {
+        let (mut accepted, mut refused, mut levels) = (0, 0, 0);
+        for level in [Simd::Scalar, Simd::Avx2, Simd::Avx512] {
+            let Some(table) = fast_pair_steps(level) else {
+                continue;
+            };
+            levels += 1;
+            for model in models() {
+                let mut handle = rsl_model::live(model);
+                handle.pair_fast_path = table[handle.scene as usize];
+                for _ in 0..100 {
                     let mut c = case(&mut rng);
-                    poke(&mut c, x);
-                    if same(&handle, &c, &format!("poked with {x}")) != RSL_OK {
-                        refused += 1;
+                    for _ in 0..3 {
+                        assert_eq!(same(&handle, &c, "plain"), RSL_OK);
+                        accepted += 1;
+                        // The next step from the new state (the fast path's).
+                        let mut out = rsl_contact_loads::default();
+                        // SAFETY: as in `same`.
+                        unsafe { rsl_contact_step(&handle, &c.0, &c.1, &c.2, &mut c.3, &mut out) };
+                    }
+                }
+                // Every double the fast path reads, each struct's first and last included
+                // (the AVX2 test reads them four at a time).
+                for field in 0..41 {
+                    for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0, 1e300] {
+                        let mut c = case(&mut rng);
+                        *double(&mut c, field) = x;
+                        if same(&handle, &c, &format!("double {field} = {x}")) != RSL_OK {
+                            refused += 1;
+                        }
                     }
                 }
             }
         }
-        assert_eq!(accepted, 3600);
-        assert!(refused > 80, "only {refused} refusals");
+        assert_eq!(accepted, 1200 * levels);
+        // Every NaN and infinity (3 of 5 values) is refused, and -1 mostly.
+        assert!(refused >= 41 * 3 * 4 * levels, "only {refused} refusals");
+    }
+
+    /// Double number `i` of the values the fast path reads: both spheres (0-19), the state
+    /// (20-32), the input's first eight (33-40).
+    fn double(c: &mut Case, i: usize) -> &mut f64 {
+        fn vec(v: &mut rsl_vec3, i: usize) -> &mut f64 {
+            [&mut v.x, &mut v.y, &mut v.z].into_iter().nth(i).unwrap()
+        }
+        fn sphere(s: &mut rsl_sphere, i: usize) -> &mut f64 {
+            match i {
+                0..=2 => vec(&mut s.position, i),
+                3..=5 => vec(&mut s.velocity, i - 3),
+                6..=8 => vec(&mut s.angular_velocity, i - 6),
+                _ => &mut s.radius,
+            }
+        }
+        let (b1, b2, input, state) = c;
+        match i {
+            0..=9 => sphere(b1, i),
+            10..=19 => sphere(b2, i - 10),
+            20..=22 => vec(&mut state.sliding_spring, i - 20),
+            23..=25 => vec(&mut state.rolling_spring, i - 23),
+            26 => &mut state.twisting_angle,
+            27..=29 => vec(&mut state.twisting_offaxis, i - 27),
+            30..=32 => vec(&mut state.previous_normal, i - 30),
+            _ => [
+                &mut input.normal_force,
+                &mut input.dt,
+                &mut input.normal_stiffness,
+                &mut input.contact_radius,
+                &mut input.mass1,
+                &mut input.mass2,
+                &mut input.inertia1,
+                &mut input.inertia2,
+            ]
+            .into_iter()
+            .nth(i - 33)
+            .unwrap(),
+        }
     }
 }

@@ -8,6 +8,7 @@
 pub mod batch;
 pub mod contact;
 pub mod decompose;
+mod finite;
 pub mod model;
 pub mod status;
 pub mod types;

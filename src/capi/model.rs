@@ -96,6 +96,11 @@ pub struct rsl_model {
 
 impl rsl_model {
     /// A live handle of `model` (already validated), with its scene and that scene's fast path.
+    /// Whether this is a live handle (not freed, not garbage: best effort, as [`live_model`]).
+    pub(crate) fn is_live(&self) -> bool {
+        self.magic == LIVE
+    }
+
     pub(crate) fn live(model: Model) -> Self {
         let scene = Scene::classify(&model);
         rsl_model {

@@ -68,16 +68,14 @@ fn state_values(s: &ContactState<f64>) -> [f64; 13] {
     ]
 }
 
-/// The inputs the checked step would accept, tested without a branch per field: every value
-/// finite (both spheres, the inputs, the state, the distance; see [`FiniteSums`]) and each in
-/// its range. Stricter than the checked step in two places, both left to it: a fixed body 2
-/// (`mass2` or `inertia2` +inf), and finite values whose sum overflows.
+/// Whether every value of both spheres, the input's first eight (`normal_force` to
+/// `inertia2`) and the state is finite, tested with [`FiniteSums`] (so "no" also for finite
+/// values whose sum overflows). A caller that holds these values in another layout may test
+/// them there instead (the C layer does, with SIMD loads).
 #[inline(always)]
-fn inputs_valid(
-    model: &Model,
+pub fn inputs_finite(
     body1: &Sphere<f64>,
     body2: &Sphere<f64>,
-    g: &ContactGeometry<f64>,
     input: &StepInput<f64>,
     state: &ContactState<f64>,
 ) -> bool {
@@ -94,18 +92,33 @@ fn inputs_valid(
         input.mass2,
         input.inertia1,
         input.inertia2,
-        g.distance,
     ]);
-    // Non-negative inputs: their minimum is (NaNs were excluded by the sums; -0 passes, as
-    // it does in the checked step).
-    let smallest = input
-        .normal_force
-        .min(input.normal_stiffness)
-        .min(input.contact_radius)
-        .min(input.mass1.min(input.mass2))
-        .min(input.inertia1.min(input.inertia2));
-    let mut ok = sums.all_finite()
-        & pair_geometry_in_range(body1.radius, body2.radius, g)
+    sums.all_finite()
+}
+
+/// The range part of what the checked step accepts, for inputs already shown finite, tested
+/// without a branch per field. Stricter than the checked step in one place, left to it: a fixed
+/// body 2 (`mass2` or `inertia2` +inf).
+#[inline(always)]
+fn inputs_in_range(
+    model: &Model,
+    body1: &Sphere<f64>,
+    body2: &Sphere<f64>,
+    g: &ContactGeometry<f64>,
+    input: &StepInput<f64>,
+) -> bool {
+    // Non-negative inputs: their minimum is (-0 passes, as it does in the checked step).
+    let min = |a: f64, b: f64| if a < b { a } else { b };
+    let smallest = min(
+        min(
+            min(input.normal_force, input.normal_stiffness),
+            min(input.contact_radius, input.mass1),
+        ),
+        min(min(input.mass2, input.inertia1), input.inertia2),
+    );
+    let mut ok = pair_geometry_in_range(body1.radius, body2.radius, g)
+        // Finite centres can be too far apart for a finite distance.
+        & (g.distance <= f64::MAX)
         & (smallest >= 0.0)
         & (input.dt > 0.0);
     if model.needs_normal_stiffness() {
@@ -119,9 +132,10 @@ fn inputs_valid(
 }
 
 /// Whether every load, the new state and (when the model tracks energy; otherwise they are 0)
-/// every energy term are finite, as the checked step requires.
+/// every energy term are finite, as the checked step requires ([`FiniteSums`]: "no" also for
+/// finite values whose sum overflows).
 #[inline(always)]
-fn outputs_finite(model: &Model, out: &StepOutput<f64>, state: &ContactState<f64>) -> bool {
+pub fn outputs_finite(model: &Model, out: &StepOutput<f64>, state: &ContactState<f64>) -> bool {
     let mut sums = FiniteSums::default();
     let l = &out.loads;
     for v in [
@@ -141,19 +155,22 @@ fn outputs_finite(model: &Model, out: &StepOutput<f64>, state: &ContactState<f64
     sums.all_finite()
 }
 
-/// The fast path for the scene code `S`: the step's output and the new state when the quick
-/// test passes and every result is finite, `None` otherwise (the caller then runs the checked
-/// step, which gives the error, or for the few inputs the quick test is stricter about, the
-/// result). `input` must be plain (no override, no limit force, not the setup pass) and `S`
-/// must be the code of [`Scene::classify`] of `model`. Nothing here is passed by reference to
-/// a function that is not inlined, so the compiler keeps the inputs in registers.
+/// The fast path for the scene code `S`, before its output test: the step's output and the new
+/// state when the inputs pass the quick test, `None` otherwise. `inputs_finite` is the
+/// caller's [`inputs_finite`] (or the same test done on its own layout of the values). The
+/// caller must then test the results ([`outputs_finite`]) and, on `None` or a non-finite
+/// result, run the checked step, which gives the error (or, for the few inputs the quick test
+/// is stricter about, the result). `input` must be plain (no override, no limit force, not the
+/// setup pass) and `S` the code of [`Scene::classify`] of `model`. Nothing here is passed by
+/// reference to a function that is not inlined, so the compiler keeps the inputs in registers.
 #[inline(always)]
-pub fn try_step_pair<const S: u8>(
+pub fn step_pair_if_valid<const S: u8>(
     model: &Model,
     body1: &Sphere<f64>,
     body2: &Sphere<f64>,
     input: &StepInput<f64>,
     state: &ContactState<f64>,
+    inputs_finite: bool,
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
     debug_assert!(plain(input));
     let folded = fold(Scene::from_code(S), model);
@@ -164,13 +181,28 @@ pub fn try_step_pair<const S: u8>(
         body2.radius,
         folded.geometry,
     );
-    let valid = inputs_valid(&folded, body1, body2, &g, input, state);
-    if !valid {
+    if !(inputs_finite & inputs_in_range(&folded, body1, body2, &g, input)) {
         return None;
     }
     let mut next = *state;
     let out =
         contact_step_with_geometry(&folded, g, body1, Partner::Sphere(body2), input, &mut next);
+    Some((out, next))
+}
+
+/// [`step_pair_if_valid`] with the portable tests of the inputs and the results: the step's
+/// output and new state, or `None` for the checked step to take over.
+#[inline(always)]
+pub fn try_step_pair<const S: u8>(
+    model: &Model,
+    body1: &Sphere<f64>,
+    body2: &Sphere<f64>,
+    input: &StepInput<f64>,
+    state: &ContactState<f64>,
+) -> Option<(StepOutput<f64>, ContactState<f64>)> {
+    let finite = inputs_finite(body1, body2, input, state);
+    let (out, next) = step_pair_if_valid::<S>(model, body1, body2, input, state, finite)?;
+    let folded = fold(Scene::from_code(S), model);
     outputs_finite(&folded, &out, &next).then_some((out, next))
 }
 
