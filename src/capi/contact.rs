@@ -314,6 +314,7 @@ pub(crate) fn fast_pair_step_for(scene: Scene) -> FastPairStep {
 
 /// The fast path of each scene (indexed by `Scene as usize`, the scene's code), the AVX2
 /// builds or the portable ones. Only a CPU with AVX2 may call the AVX2 builds.
+#[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
 fn fast_pair_steps(avx2: bool) -> &'static [FastPairStep; 6] {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
