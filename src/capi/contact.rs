@@ -8,7 +8,7 @@ use super::finite::Avx2;
 use super::finite::{FiniteTest, Portable};
 use super::model::live_model;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
-use super::{guard, input, output};
+use super::{guard, guard_status, input, output};
 use crate::batch::scene::fold;
 use crate::batch::Scene;
 use crate::decompose::{Sphere, Wall};
@@ -18,7 +18,6 @@ use crate::laws::fast_path::step_pair_if_valid;
 use crate::laws::model::Model;
 use crate::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
 use crate::laws::step::{ContactState, StepInput, StepOutput};
-use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 pub const RSL_INPUT_SLIDING_STIFFNESS: u32 = 1;
@@ -291,16 +290,17 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
     })
 }
 
-/// A scene's fast path: writes the result and returns true, or returns false having written
-/// nothing.
+/// `rsl_contact_step` for one scene and one build once its pointers are checked: the scene's
+/// fast path for a plain input; the checked step (which reports) for anything else and
+/// anything the fast path refuses. Returns the status.
 pub(crate) type FastPairStep = unsafe fn(
-    &Model,
+    &super::model::rsl_model,
     &rsl_sphere,
     &rsl_sphere,
     &rsl_contact_input,
     &mut rsl_contact_state,
     &mut rsl_contact_loads,
-) -> bool;
+) -> i32;
 
 /// The fast path of `scene` (the model handle keeps it), built for AVX2 when this CPU has it
 /// (Rust never contracts to FMA, so every build gives the same bits). Measured (session 2),
@@ -344,28 +344,50 @@ fn fast_pair_steps(avx2: bool) -> &'static [FastPairStep; 6] {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn fast_pair_step_avx2<const S: u8>(
-    model: &Model,
+    m: &super::model::rsl_model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
     out: &mut rsl_contact_loads,
-) -> bool {
+) -> i32 {
     // SAFETY: this function's own contract: the CPU has AVX2.
     let test = unsafe { Avx2::assume() };
-    fast_pair_step::<S, _>(test, model, body1, body2, input, state, out)
+    if input.flags == 0 && fast_pair_step::<S, _>(test, &m.model, body1, body2, input, state, out) {
+        return super::status::RSL_OK;
+    }
+    pair_step_guarded(&m.model, body1, body2, input, state, out)
 }
 
 /// [`fast_pair_step`] for any CPU.
 fn fast_pair_step_portable<const S: u8>(
+    m: &super::model::rsl_model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    out: &mut rsl_contact_loads,
+) -> i32 {
+    if input.flags == 0
+        && fast_pair_step::<S, _>(Portable, &m.model, body1, body2, input, state, out)
+    {
+        return super::status::RSL_OK;
+    }
+    pair_step_guarded(&m.model, body1, body2, input, state, out)
+}
+
+/// [`pair_step_checked`] with its error recorded as the last error.
+#[inline(never)]
+#[cold]
+fn pair_step_guarded(
     model: &Model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
     out: &mut rsl_contact_loads,
-) -> bool {
-    fast_pair_step::<S, _>(Portable, model, body1, body2, input, state, out)
+) -> i32 {
+    guard(|| Ok(pair_step_checked(model, body1, body2, input, state, out)?))
 }
 
 /// The fast path for scene code `S` ([`step_pair_if_valid`]) on a plain input (`flags == 0`),
@@ -475,22 +497,19 @@ pub unsafe extern "C" fn rsl_contact_step(
         // outputs are the caller's contract stated above.
         let (m, b1, b2, inp, st, o) =
             unsafe { (&*model, &*body1, &*body2, &*contact, &mut *state, &mut *out) };
-        if m.is_live() && inp.flags == 0 {
+        if m.is_live() {
             debug_assert_eq!(
                 m.scene,
                 Scene::classify(&m.model),
                 "stale scene in the handle"
             );
-            // The fast path behind its own panic boundary: a panic there (none is known) only
-            // sends the step to the checked path below, which has the reporting one.
-            let fast = catch_unwind(AssertUnwindSafe(|| {
-                // SAFETY: the handle's fast path is an AVX2 or AVX-512 build only when the CPU
-                // has those features (`fast_pair_step_for`), their only requirement.
-                unsafe { (m.pair_fast_path)(&m.model, b1, b2, inp, st, o) }
-            }));
-            if let Ok(true) = fast {
-                return super::status::RSL_OK;
-            }
+            // Behind the panic boundary (the fast path writes nothing before it succeeds; a
+            // panic anywhere, none is known, is reported as RSL_ERR_INTERNAL).
+            return guard_status(|| {
+                // SAFETY: the handle's step is an AVX2 build only when the CPU has AVX2 and
+                // FMA (`fast_pair_step_for`), its only requirement.
+                unsafe { (m.pair_fast_path)(m, b1, b2, inp, st, o) }
+            });
         }
     }
     guard(|| {

@@ -20,14 +20,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// Runs `body` behind the panic boundary and maps its result to a status code, recording the
 /// detail message of a failure in the thread-local last error.
 pub(crate) fn guard<F: FnOnce() -> Result<(), FfiError>>(body: F) -> i32 {
-    let outcome = catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|payload| {
-        let what = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown panic".to_string());
-        Err(FfiError::Panic(what))
-    });
+    let outcome =
+        catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|payload| Err(panic(payload)));
     match outcome {
         Ok(()) => RSL_OK,
         Err(e) => {
@@ -35,6 +29,25 @@ pub(crate) fn guard<F: FnOnce() -> Result<(), FfiError>>(body: F) -> i32 {
             e.code()
         }
     }
+}
+
+/// As [`guard`], for a body that returns its status itself (and records its own messages).
+pub(crate) fn guard_status<F: FnOnce() -> i32>(body: F) -> i32 {
+    catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|payload| {
+        let e = panic(payload);
+        set_last_error(&e.message());
+        e.code()
+    })
+}
+
+/// The error of a caught panic, with its message when it has one.
+fn panic(payload: Box<dyn std::any::Any + Send>) -> FfiError {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".to_string());
+    FfiError::Panic(what)
 }
 
 /// Borrows a caller's input struct, refusing NULL and misaligned pointers.
