@@ -90,7 +90,8 @@ pub struct rsl_model {
     /// `Scene::classify(&model)`, kept in step with `model` (the per-contact fast path's
     /// kernel).
     pub(crate) scene: Scene,
-    /// The fast path of `scene` for this CPU, chosen once here rather than per call.
+    /// `rsl_contact_step` for `scene` on this CPU (its fast path, the checked step on refusal),
+    /// chosen once here rather than per call.
     pub(crate) pair_fast_path: FastPairStep,
 }
 
