@@ -68,7 +68,7 @@ pub fn finite_probe<T: Real>(acc: T, v: &Vec3<T>) -> T {
 }
 
 /// Running sums of many `f64` values, four independent sums (value `i` of each added array
-/// goes to sum `i % 4`, so four values adjacent in memory take one SIMD add): a quick test
+/// goes to sum `i % 4`: four short dependency chains, which the compiler may pack): a quick test
 /// that a set of values is finite. The total is finite only if every value is (an infinity or
 /// a NaN makes it infinite or NaN), so [`FiniteSums::all_finite`] never says yes to a
 /// non-finite value; it says no to finite values whose sum overflows (beyond ~1.8e308), which
