@@ -10,7 +10,8 @@
  * Compared in the same run:
  *   baseline  hand-written C, LAMMPS style inline (linear history + rolling sds + twisting sds,
  *             project-rescale transport): the physics of the LAMMPS_2021 preset
- *   percontact  rsl_contact_step per contact + accumulation
+ *   percontact  rsl_contact_step per contact + accumulation by the host
+ *   percontact_acc  rsl_contact_step_accumulate per contact (the library accumulates)
  *   batch     rsl_batch_step / rsl_batch_step_contacts / rsl_batch_decompose
  *   floor     streams the same bytes with the same access pattern (reads pairs, f_n, both
  *             particles; reads + writes the state; read-modify-writes force and torque of both)
@@ -303,6 +304,23 @@ static void percontact(scene *s) {
     }
 }
 
+/* ---- (b') per-contact C call that accumulates itself ---- */
+static void percontact_acc(scene *s) {
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.dt = DT;
+    for (size_t c = 0; c < s->nc; c++) {
+        uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
+        in.normal_force = s->fn[c];
+        if (rsl_contact_step_accumulate(MODEL, &s->p[i], &s->p[j], &in, &s->st[c], &s->f[i],
+                                        &s->t[i], &s->f[j], &s->t[j]) != RSL_OK) {
+            fprintf(stderr, "rsl_contact_step_accumulate failed at %zu: %s\n", c,
+                    rsl_last_error_message());
+            exit(1);
+        }
+    }
+}
+
 /* ---- (c) batch ---- */
 static rsl_model *BATCH_MODEL; /* the model of the current batch measurement */
 static rsl_batch_options OPTS;
@@ -424,6 +442,10 @@ int main(int argc, char **argv) {
     if (want("percontact_c")) {
         double tp = timeit(&s, percontact, reps);
         printf("percontact_c %.3f %.2e\n", tp, maxdiff(&s));
+    }
+    if (want("percontact_acc_c")) {
+        double tp = timeit(&s, percontact_acc, reps);
+        printf("percontact_acc_c %.3f %.2e\n", tp, maxdiff(&s));
     }
 
     uint32_t simd = rsl_batch_simd_support();

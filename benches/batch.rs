@@ -143,6 +143,7 @@ fn main() {
                 "baseline_c",
                 "floor",
                 "percontact_c",
+                "percontact_acc_c",
                 "batch_f64",
                 "contacts_f64",
                 "batch_f32",

@@ -908,6 +908,197 @@ void test_bad_input_contact_step_wall_every_field_and_pointer(void) {
     rsl_model_free(m);
 }
 
+/* ---- the accumulating steps ----------------------------------------------------------- */
+
+/* Accumulators before a step: distinct non-zero values, so that each add shows. */
+static void fill_accumulators(rsl_vec3 acc[4]) {
+    acc[0] = rsl_test_vec(1.5, -2.25, 3.125);
+    acc[1] = rsl_test_vec(-0.75, 0.5, 7.0);
+    acc[2] = rsl_test_vec(11.0, 0.0625, -4.5);
+    acc[3] = rsl_test_vec(0.375, -9.0, 2.0);
+}
+
+static rsl_vec3 added(rsl_vec3 a, rsl_vec3 v, double sign) {
+    return sign > 0 ? rsl_test_vec(a.x + v.x, a.y + v.y, a.z + v.z)
+                    : rsl_test_vec(a.x - v.x, a.y - v.y, a.z - v.z);
+}
+
+/* rsl_contact_step_accumulate (wall: rsl_contact_step_wall_accumulate) against
+ * rsl_contact_step (_wall) on the same arguments: same status, same message, same state bytes;
+ * the accumulators hold exactly the returned loads added on success, and are untouched on
+ * failure. `w` NULL: the pair step with `b`. Returns the status. */
+static int32_t mirror(const rsl_model *m, const rsl_sphere *a, const rsl_sphere *b,
+                      const rsl_wall *w, const rsl_contact_input *in, const rsl_contact_state *st,
+                      const char *what) {
+    rsl_contact_state s1 = *st, s2 = *st;
+    rsl_contact_loads out;
+    memset(&out, 0, sizeof out);
+    int32_t status = w ? rsl_contact_step_wall(m, a, w, in, &s1, &out)
+                       : rsl_contact_step(m, a, b, in, &s1, &out);
+    char message[512];
+    snprintf(message, sizeof message, "%s", rsl_last_error_message());
+    rsl_vec3 acc[4], expected[4];
+    fill_accumulators(acc);
+    fill_accumulators(expected);
+    int32_t acc_status = w ? rsl_contact_step_wall_accumulate(m, a, w, in, &s2, &acc[0], &acc[1])
+                           : rsl_contact_step_accumulate(m, a, b, in, &s2, &acc[0], &acc[1],
+                                                         &acc[2], &acc[3]);
+    if (status == RSL_OK) {
+        expected[0] = added(expected[0], out.force1, 1);
+        expected[1] = added(expected[1], out.torque1, 1);
+        if (!w) {
+            expected[2] = added(expected[2], out.force1, -1);
+            expected[3] = added(expected[3], out.torque2, 1);
+        }
+    }
+    int ok = acc_status == status && memcmp(&s1, &s2, sizeof s1) == 0 &&
+             memcmp(acc, expected, sizeof acc) == 0 &&
+             (status == RSL_OK || strcmp(message, rsl_last_error_message()) == 0);
+    if (!ok) {
+        fprintf(stderr, "%s: accumulate differs: status %d vs %d, message \"%s\" vs \"%s\"\n",
+                what, (int)acc_status, (int)status, rsl_last_error_message(), message);
+        rsl_test_failures++;
+    }
+    return status;
+}
+
+/* Every bad input of the two tests above, through the accumulating entry points: they refuse
+ * what rsl_contact_step refuses, with the same status and message, and write nothing; on
+ * success they add exactly rsl_contact_step's loads. Then their own pointer arguments. */
+void test_bad_input_contact_step_accumulate_mirrors_contact_step(void) {
+    rsl_model *m = full_model();
+    rsl_sphere a, b, s = on_floor();
+    pair(&a, &b);
+    rsl_wall w = floor_wall();
+    rsl_contact_input in = full_input();
+    rsl_contact_state st = loaded_state(m), fresh;
+    memset(&fresh, 0, sizeof fresh);
+    char what[160];
+    int refused = 0, accepted = 0;
+    /* both paths: every override flag (the checked step), none (the fast path) */
+    for (int plain = 0; plain < 2; plain++) {
+        rsl_contact_input base = in;
+        if (plain) base.flags = 0;
+        accepted += mirror(m, &a, &b, NULL, &base, &st, "pair, good input") == RSL_OK;
+        accepted += mirror(m, &s, NULL, &w, &base, &fresh, "wall, good input") == RSL_OK;
+        for (int v = 0; v < 3; v++) {
+            for (size_t i = 0; i < COUNT(SPHERE1); i++) {
+                rsl_sphere bad = a;
+                poke(&bad, SPHERE1[i].offset, NONFINITE[v]);
+                label(what, sizeof what, "accumulate", "body1", &SPHERE1[i], v);
+                refused += mirror(m, &bad, &b, NULL, &base, &st, what) != RSL_OK;
+                bad = b;
+                poke(&bad, SPHERE2[i].offset, NONFINITE[v]);
+                label(what, sizeof what, "accumulate", "body2", &SPHERE2[i], v);
+                refused += mirror(m, &a, &bad, NULL, &base, &st, what) != RSL_OK;
+                bad = s;
+                poke(&bad, WALL_SPHERE[i].offset, NONFINITE[v]);
+                label(what, sizeof what, "wall accumulate", "sphere", &WALL_SPHERE[i], v);
+                refused += mirror(m, &bad, NULL, &w, &base, &fresh, what) != RSL_OK;
+            }
+            for (size_t i = 0; i < COUNT(WALL); i++) {
+                rsl_wall bad = w;
+                poke(&bad, WALL[i].offset, NONFINITE[v]);
+                label(what, sizeof what, "wall accumulate", "wall", &WALL[i], v);
+                refused += mirror(m, &s, NULL, &bad, &base, &fresh, what) != RSL_OK;
+            }
+            for (size_t i = 0; i < COUNT(INPUT); i++) {
+                rsl_contact_input bad = base;
+                poke(&bad, INPUT[i].offset, NONFINITE[v]);
+                label(what, sizeof what, "accumulate", "input", &INPUT[i], v);
+                refused += mirror(m, &a, &b, NULL, &bad, &st, what) != RSL_OK;
+                refused += mirror(m, &s, NULL, &w, &bad, &fresh, what) != RSL_OK;
+            }
+            for (size_t i = 0; i < COUNT(STATE); i++) {
+                rsl_contact_state bad = st;
+                poke(&bad, STATE[i].offset, NONFINITE[v]);
+                label(what, sizeof what, "accumulate", "state", &STATE[i], v);
+                refused += mirror(m, &a, &b, NULL, &base, &bad, what) != RSL_OK;
+                refused += mirror(m, &s, NULL, &w, &base, &bad, what) != RSL_OK;
+            }
+        }
+        rsl_contact_input bad = base;
+        bad.dt = -1e-3;
+        refused += mirror(m, &a, &b, NULL, &bad, &st, "accumulate dt < 0") != RSL_OK;
+        bad = base;
+        bad.normal_force = -1e-300;
+        refused += mirror(m, &a, &b, NULL, &bad, &st, "accumulate f_n < 0") != RSL_OK;
+        bad = base;
+        bad.flags |= 1u << 10;
+        refused += mirror(m, &a, &b, NULL, &bad, &st, "accumulate unknown flag") != RSL_OK;
+        rsl_sphere bs = b;
+        bs.position = a.position;
+        refused += mirror(m, &a, &bs, NULL, &base, &st, "accumulate coincident") != RSL_OK;
+        bs.position = rsl_test_vec(1, 2, 3.05);
+        refused += mirror(m, &a, &bs, NULL, &base, &st, "accumulate branch") != RSL_OK;
+        bs = s;
+        bs.position.z = -1.0;
+        refused += mirror(m, &bs, NULL, &w, &base, &fresh, "wall accumulate branch") != RSL_OK;
+        /* finite input, overflowing result */
+        bad = base;
+        bad.normal_force = 1e308;
+        rsl_contact_state big = st;
+        big.sliding_spring = rsl_test_vec(1e300, 0, 0);
+        refused += mirror(m, &a, &b, NULL, &bad, &big, "accumulate overflow") != RSL_OK;
+        /* the setup pass (the objective preset does not store: the state stays) */
+        bad = base;
+        bad.flags |= RSL_INPUT_SETUP;
+        accepted += mirror(m, &a, &b, NULL, &bad, &st, "accumulate setup") == RSL_OK;
+    }
+    /* 2 x (3 x (20 + 10 + 12 + 17 x 2 + 13 x 2) refusals at least, some +inf inputs accepted) */
+    CHECK(accepted == 6);
+    CHECK(refused >= 2 * 3 * (20 + 10 + 12 + 13 * 2));
+
+    /* each pointer argument, NULL and misaligned: the accumulators and state stay */
+    rsl_vec3 acc[4], kept_acc[4];
+    rsl_contact_state kept = st;
+    fill_accumulators(acc);
+    fill_accumulators(kept_acc);
+    memset(raw, 0, sizeof raw);
+#define ACC_FAILS(call, expected, needle)                                                   \
+    do {                                                                                    \
+        check_failure((call), (expected), (needle), NULL, 0, &st, &kept, sizeof st, #call, \
+                      __FILE__, __LINE__);                                                  \
+        CHECK(memcmp(acc, kept_acc, sizeof acc) == 0);                                      \
+    } while (0)
+    ACC_FAILS(rsl_contact_step_accumulate(NULL, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "model");
+    ACC_FAILS(rsl_contact_step_accumulate(m, NULL, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "body1");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, NULL, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "body2");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, NULL, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "input");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, NULL, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "state");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, NULL, &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "force1");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], NULL, &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "torque1");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], &acc[1], NULL, &acc[3]), RSL_ERR_NULL_POINTER, "force2");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], NULL), RSL_ERR_NULL_POINTER, "torque2");
+    ACC_FAILS(rsl_contact_step_accumulate(MIS(rsl_model), &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "model");
+    ACC_FAILS(rsl_contact_step_accumulate(m, MIS(rsl_sphere), &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "body1");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, MIS(rsl_sphere), &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "body2");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, MIS(rsl_contact_input), &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "input");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, MIS(rsl_contact_state), &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "state");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, MIS(rsl_vec3), &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "force1");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], MIS(rsl_vec3), &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "torque1");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], &acc[1], MIS(rsl_vec3), &acc[3]), RSL_ERR_MISALIGNED, "force2");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], MIS(rsl_vec3)), RSL_ERR_MISALIGNED, "torque2");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(NULL, &s, &w, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "model");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, NULL, &w, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "sphere");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, NULL, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "wall");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, NULL, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "input");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, NULL, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "state");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, &st, NULL, &acc[1]), RSL_ERR_NULL_POINTER, "force");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, &st, &acc[0], NULL), RSL_ERR_NULL_POINTER, "torque");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, &st, MIS(rsl_vec3), &acc[1]), RSL_ERR_MISALIGNED, "force");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, &st, &acc[0], MIS(rsl_vec3)), RSL_ERR_MISALIGNED, "torque");
+    static _Alignas(16) unsigned char fake[4096];
+    memset(fake, PATTERN, sizeof fake);
+    ACC_FAILS(rsl_contact_step_accumulate((const rsl_model *)(const void *)fake, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_INVALID_HANDLE, "handle");
+#undef ACC_FAILS
+    /* nothing was written through the misaligned pointers either */
+    unsigned char zeros[sizeof raw];
+    memset(zeros, 0, sizeof zeros);
+    CHECK(memcmp(raw, zeros, sizeof raw) == 0);
+    rsl_model_free(m);
+}
+
 /* ---- model handle and setters ---------------------------------------------------------- */
 
 /* One step of a fixed contact with `m`: a fingerprint of everything the model does. */

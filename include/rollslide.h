@@ -748,6 +748,35 @@ int32_t rsl_contact_step(const struct rsl_model *model,
                          struct rsl_contact_state *state,
                          struct rsl_contact_loads *out);
 
+// Steps one sphere-sphere contact as `rsl_contact_step` does (same physics, same checks, same
+// status, same state) and adds its loads to the bodies' accumulators instead of returning
+// them: `*force1 += F`, `*torque1 += T1`, `*force2 -= F`, `*torque2 += T2` (`F`, `T1`, `T2`
+// are `rsl_contact_loads`' `force1`, `torque1`, `torque2`: forces, and torques about each
+// body's centre). This is the loop body of a DEM force computation
+// (`rsl_contact_step_accumulate(m, &p[i], &p[j], &in, &st[c], &f[i], &t[i], &f[j], &t[j])`);
+// the library knows where the loads go before it steps, and fetches those cache lines while
+// it computes. Use `rsl_contact_step` for the other outputs (sliding force, moments, energy).
+//
+// `*state` and the accumulators are written only on `RSL_OK` (with `RSL_INPUT_SETUP`,
+// `*state` as `rsl_contact_step` writes it); the sums themselves are not checked. The
+// accumulators may point to the same vector (the four adds are done in the order above).
+//
+// Errors: those of `rsl_contact_step`.
+//
+// # Safety
+// Every pointer must be valid for its type during the call; `state` and the accumulators must
+// not overlap the inputs, and `state` must not overlap the accumulators. The model must not be
+// modified during the call.
+int32_t rsl_contact_step_accumulate(const struct rsl_model *model,
+                                    const struct rsl_sphere *body1,
+                                    const struct rsl_sphere *body2,
+                                    const struct rsl_contact_input *contact,
+                                    struct rsl_contact_state *state,
+                                    struct rsl_vec3 *force1,
+                                    struct rsl_vec3 *torque1,
+                                    struct rsl_vec3 *force2,
+                                    struct rsl_vec3 *torque2);
+
 // Steps one sphere-wall contact (body 2 is the wall); as `rsl_contact_step`.
 //
 // # Safety
@@ -758,6 +787,24 @@ int32_t rsl_contact_step_wall(const struct rsl_model *model,
                               const struct rsl_contact_input *contact,
                               struct rsl_contact_state *state,
                               struct rsl_contact_loads *out);
+
+// Steps one sphere-wall contact as `rsl_contact_step_wall` does and adds the sphere's loads
+// to its accumulators: `*force += force1`, `*torque += torque1` (torque about the sphere's
+// centre). The wall's loads are not returned (use `rsl_contact_step_wall` for them).
+// `*state` and the accumulators are written only on `RSL_OK`; `force` and `torque` may be the
+// same vector.
+//
+// Errors: those of `rsl_contact_step_wall`.
+//
+// # Safety
+// As `rsl_contact_step_accumulate`.
+int32_t rsl_contact_step_wall_accumulate(const struct rsl_model *model,
+                                         const struct rsl_sphere *sphere,
+                                         const struct rsl_wall *wall,
+                                         const struct rsl_contact_input *contact,
+                                         struct rsl_contact_state *state,
+                                         struct rsl_vec3 *force,
+                                         struct rsl_vec3 *torque);
 
 // Critical time step of velocity Verlet for a rotational spring-dashpot (models.md section 5):
 // `dt_c = (2/w0)(sqrt(1 + z^2) - z)`, `w0 = sqrt(k_theta (1/I1 + 1/I2))`. `inertia2` may be

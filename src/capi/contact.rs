@@ -8,7 +8,7 @@ use super::finite::Avx2;
 use super::finite::{FiniteTest, Portable};
 use super::model::live_model;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
-use super::{guard, guard_status, input, output};
+use super::{checked_pointer, guard, guard_status, input, output};
 use crate::batch::scene::fold;
 use crate::batch::Scene;
 use crate::decompose::{Sphere, Wall};
@@ -290,128 +290,292 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
     })
 }
 
-/// `rsl_contact_step` for one scene and one build once its pointers are checked: the scene's
-/// fast path for a plain input; the checked step (which reports) for anything else and
-/// anything the fast path refuses. Returns the status.
-pub(crate) type FastPairStep = unsafe fn(
+/// Where a successful per-contact step's loads go: the caller's `rsl_contact_loads`
+/// ([`LoadsOut`]) or the bodies' force and torque accumulators ([`Accumulators`],
+/// [`SphereAccumulators`]).
+pub(crate) trait LoadsSink: Copy {
+    /// Called before the step: a hint that the loads will be written here (the accumulators
+    /// prefetch their cache lines, so that the host's scattered force array misses while the
+    /// step computes, not after it).
+    fn expect(self);
+    /// Writes the loads of a successful step. Called at most once, after every check passed.
+    fn deliver(self, loads: &rsl_contact_loads);
+}
+
+/// The caller's output struct (`rsl_contact_step`): receives the whole `rsl_contact_loads`.
+#[derive(Clone, Copy)]
+pub(crate) struct LoadsOut(*mut rsl_contact_loads);
+
+impl LoadsOut {
+    /// # Safety
+    /// `out` must be non-NULL, aligned, writable and not overlap any input of the step, for
+    /// as long as the sink is used.
+    unsafe fn new(out: *mut rsl_contact_loads) -> Self {
+        LoadsOut(out)
+    }
+}
+
+impl LoadsSink for LoadsOut {
+    #[inline(always)]
+    fn expect(self) {}
+
+    #[inline(always)]
+    fn deliver(self, loads: &rsl_contact_loads) {
+        // SAFETY: `LoadsOut::new`'s contract: a valid, exclusive output.
+        unsafe { *self.0 = *loads };
+    }
+}
+
+/// The force and torque accumulators of both bodies (`rsl_contact_step_accumulate`): body 1
+/// gets `+force1` and `+torque1`, body 2 `-force1` and `+torque2`. Raw pointers, so that a
+/// host may pass the same accumulator twice (the adds are done in the order force1, torque1,
+/// force2, torque2, each reading what the previous wrote).
+#[derive(Clone, Copy)]
+pub(crate) struct Accumulators {
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+}
+
+impl Accumulators {
+    /// # Safety
+    /// Every pointer must be non-NULL, aligned, writable and not overlap any input of the
+    /// step (they may equal each other), for as long as the sink is used.
+    unsafe fn new(
+        force1: *mut rsl_vec3,
+        torque1: *mut rsl_vec3,
+        force2: *mut rsl_vec3,
+        torque2: *mut rsl_vec3,
+    ) -> Self {
+        Accumulators {
+            force1,
+            torque1,
+            force2,
+            torque2,
+        }
+    }
+}
+
+/// Prefetches the (at most two) cache lines of the vector at `p` (24 bytes, 8-aligned: its
+/// last 8 bytes, at `p + 16`, lie in one line). A hint only.
+#[inline(always)]
+fn prefetch_vec3(p: *const rsl_vec3) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: a prefetch never faults and changes nothing the program can observe, whatever
+        // the address (`wrapping_add`: no pointer arithmetic is assumed in bounds).
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(p.cast());
+            _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>().wrapping_add(16));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
+/// `*p += v` (`sign` +1) or `*p -= v` (`sign` -1), through a raw pointer.
+///
+/// # Safety
+/// `p` must be valid for reads and writes of an `rsl_vec3`, not referenced elsewhere meanwhile.
+#[inline(always)]
+unsafe fn add_to(p: *mut rsl_vec3, v: &rsl_vec3, subtract: bool) {
+    // SAFETY: the caller's contract.
+    let a = unsafe { &mut *p };
+    if subtract {
+        (a.x, a.y, a.z) = (a.x - v.x, a.y - v.y, a.z - v.z);
+    } else {
+        (a.x, a.y, a.z) = (a.x + v.x, a.y + v.y, a.z + v.z);
+    }
+}
+
+impl LoadsSink for Accumulators {
+    #[inline(always)]
+    fn expect(self) {
+        for p in [self.force1, self.torque1, self.force2, self.torque2] {
+            prefetch_vec3(p);
+        }
+    }
+
+    #[inline(always)]
+    fn deliver(self, loads: &rsl_contact_loads) {
+        // SAFETY: `Accumulators::new`'s contract; each add is finished (its temporary
+        // reference gone) before the next, so equal pointers are fine.
+        unsafe {
+            add_to(self.force1, &loads.force1, false);
+            add_to(self.torque1, &loads.torque1, false);
+            add_to(self.force2, &loads.force1, true);
+            add_to(self.torque2, &loads.torque2, false);
+        }
+    }
+}
+
+/// The sphere's force and torque accumulators of a sphere-wall contact
+/// (`rsl_contact_step_wall_accumulate`): `+force1` and `+torque1`.
+#[derive(Clone, Copy)]
+pub(crate) struct SphereAccumulators {
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+}
+
+impl LoadsSink for SphereAccumulators {
+    #[inline(always)]
+    fn expect(self) {}
+
+    #[inline(always)]
+    fn deliver(self, loads: &rsl_contact_loads) {
+        // SAFETY: as for `Accumulators` (built only in `rsl_contact_step_wall_accumulate`
+        // from pointers under the same contract).
+        unsafe {
+            add_to(self.force, &loads.force1, false);
+            add_to(self.torque, &loads.torque1, false);
+        }
+    }
+}
+
+/// The whole per-contact step of one scene and one build, once its pointers are checked: the
+/// scene's fast path for a plain input; the checked step (which reports) for anything else
+/// and anything the fast path refuses. The loads go to the sink `K`. Returns the status.
+pub(crate) type PairStep<K> = unsafe fn(
     &super::model::rsl_model,
     &rsl_sphere,
     &rsl_sphere,
     &rsl_contact_input,
     &mut rsl_contact_state,
-    &mut rsl_contact_loads,
+    K,
 ) -> i32;
 
-/// The fast path of `scene` (the model handle keeps it), built for AVX2 when this CPU has it
-/// (Rust never contracts to FMA, so every build gives the same bits). Measured (session 2),
-/// the heap demo (generic scene: Marshall twisting) 9.3-9.4 s with the AVX2 build against
+/// A scene's per-contact steps on this CPU, one per sink, kept in the model handle.
+#[derive(Clone, Copy)]
+pub(crate) struct PairSteps {
+    /// `rsl_contact_step`.
+    pub(crate) out: PairStep<LoadsOut>,
+    /// `rsl_contact_step_accumulate`.
+    pub(crate) accumulate: PairStep<Accumulators>,
+}
+
+/// The per-contact steps of `scene` (the model handle keeps them), built for AVX2 when this CPU
+/// has it (Rust never contracts to FMA, so every build gives the same bits). Measured (session
+/// 2), the heap demo (generic scene: Marshall twisting) 9.3-9.4 s with the AVX2 build against
 /// 10.3-11.3 s with the SSE2 one. An AVX-512 build (32 vector registers: 25 stack stores in
 /// the LAMMPS scene instead of 62) measured no faster (session 3: 1.18x against 1.16x the C
 /// baseline at 1M contacts, medians of 7) and was dropped.
-pub(crate) fn fast_pair_step_for(scene: Scene) -> FastPairStep {
-    fast_pair_steps(Simd::Avx2.available())[scene as usize]
+pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
+    let avx2 = Simd::Avx2.available();
+    PairSteps {
+        out: scene_steps(avx2)[scene as usize],
+        accumulate: scene_steps(avx2)[scene as usize],
+    }
 }
 
-/// The fast path of each scene (indexed by `Scene as usize`, the scene's code), the AVX2
-/// builds or the portable ones. Only a CPU with AVX2 may call the AVX2 builds.
+/// The step of each scene (indexed by `Scene as usize`, the scene's code) for the sink `K`, the
+/// AVX2 builds or the portable ones. Only a CPU with AVX2 and FMA may call the AVX2 builds.
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
-fn fast_pair_steps(avx2: bool) -> &'static [FastPairStep; 6] {
+fn scene_steps<K: LoadsSink>(avx2: bool) -> [PairStep<K>; 6] {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
-        return &[
-            fast_pair_step_avx2::<0>,
-            fast_pair_step_avx2::<1>,
-            fast_pair_step_avx2::<2>,
-            fast_pair_step_avx2::<3>,
-            fast_pair_step_avx2::<4>,
-            fast_pair_step_avx2::<5>,
+        return [
+            pair_step_avx2::<0, K>,
+            pair_step_avx2::<1, K>,
+            pair_step_avx2::<2, K>,
+            pair_step_avx2::<3, K>,
+            pair_step_avx2::<4, K>,
+            pair_step_avx2::<5, K>,
         ];
     }
-    &[
-        fast_pair_step_portable::<0>,
-        fast_pair_step_portable::<1>,
-        fast_pair_step_portable::<2>,
-        fast_pair_step_portable::<3>,
-        fast_pair_step_portable::<4>,
-        fast_pair_step_portable::<5>,
+    [
+        pair_step_portable::<0, K>,
+        pair_step_portable::<1, K>,
+        pair_step_portable::<2, K>,
+        pair_step_portable::<3, K>,
+        pair_step_portable::<4, K>,
+        pair_step_portable::<5, K>,
     ]
 }
 
-/// [`fast_pair_step`] built for AVX2 and FMA, with the AVX2 finiteness tests.
+/// [`pair_step_with`] built for AVX2 and FMA, with the AVX2 finiteness tests.
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn fast_pair_step_avx2<const S: u8>(
+unsafe fn pair_step_avx2<const S: u8, K: LoadsSink>(
     m: &super::model::rsl_model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
-    out: &mut rsl_contact_loads,
+    sink: K,
 ) -> i32 {
     // SAFETY: this function's own contract: the CPU has AVX2.
     let test = unsafe { Avx2::assume() };
-    pair_step_with::<S, _>(test, m, body1, body2, input, state, out)
+    pair_step_with::<S, _, K>(test, m, body1, body2, input, state, sink)
 }
 
-/// [`fast_pair_step`] for any CPU.
-fn fast_pair_step_portable<const S: u8>(
+/// [`pair_step_with`] for any CPU.
+fn pair_step_portable<const S: u8, K: LoadsSink>(
     m: &super::model::rsl_model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
-    out: &mut rsl_contact_loads,
+    sink: K,
 ) -> i32 {
-    pair_step_with::<S, _>(Portable, m, body1, body2, input, state, out)
+    pair_step_with::<S, _, K>(Portable, m, body1, body2, input, state, sink)
 }
 
 /// The step of scene code `S` with the finiteness test `test`: [`fast_pair_step`] for a plain
 /// input (`flags == 0`), [`pair_step_guarded`] for anything else or anything it refuses.
 #[inline(always)]
-fn pair_step_with<const S: u8, F: FiniteTest>(
+fn pair_step_with<const S: u8, F: FiniteTest, K: LoadsSink>(
     test: F,
     m: &super::model::rsl_model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
-    out: &mut rsl_contact_loads,
+    sink: K,
 ) -> i32 {
-    if input.flags == 0 && fast_pair_step::<S, F>(test, &m.model, body1, body2, input, state, out) {
+    sink.expect();
+    if input.flags == 0
+        && fast_pair_step::<S, F, K>(test, &m.model, body1, body2, input, state, sink)
+    {
         return super::status::RSL_OK;
     }
-    pair_step_guarded(&m.model, body1, body2, input, state, out)
+    pair_step_guarded(&m.model, body1, body2, input, state, sink)
 }
 
-/// [`pair_step_checked`] with its error recorded as the last error.
+/// [`pair_step_checked`] with its error recorded as the last error, its loads delivered to
+/// `sink` on success.
 #[inline(never)]
 #[cold]
-fn pair_step_guarded(
+fn pair_step_guarded<K: LoadsSink>(
     model: &Model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
-    out: &mut rsl_contact_loads,
+    sink: K,
 ) -> i32 {
-    guard(|| Ok(pair_step_checked(model, body1, body2, input, state, out)?))
+    guard(|| {
+        sink.deliver(&pair_step_checked(model, body1, body2, input, state)?);
+        Ok(())
+    })
 }
 
 /// The fast path for scene code `S` ([`step_pair_if_valid`]) on a plain input (`flags == 0`),
-/// with `test` for the finiteness of the inputs and of the results: on success writes `*out`
-/// and `*state` and returns true; otherwise writes nothing.
+/// with `test` for the finiteness of the inputs and of the results: on success writes `*state`,
+/// delivers the loads to `sink` and returns true; otherwise writes nothing.
 #[inline(always)]
-fn fast_pair_step<const S: u8, F: FiniteTest>(
+fn fast_pair_step<const S: u8, F: FiniteTest, K: LoadsSink>(
     test: F,
     model: &Model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
-    out: &mut rsl_contact_loads,
+    sink: K,
 ) -> bool {
     let step = StepInput {
         normal_stiffness: input.normal_stiffness,
@@ -439,13 +603,15 @@ fn fast_pair_step<const S: u8, F: FiniteTest>(
         return false;
     }
     *state = new_state;
-    *out = loads;
+    sink.deliver(&loads);
     true
 }
 
-/// `rsl_contact_step` through the checked step: inputs with overrides, a limit force or the
+/// The per-contact step through the checked step: inputs with overrides, a limit force or the
 /// setup pass, and whatever the fast path's quick test did not pass (the checked step gives
-/// the precise error). Kept out of line so that the fast path keeps its inputs in registers.
+/// the precise error). Writes `*state` (where the preset's setup pass does) and returns the
+/// loads on success; writes nothing otherwise. Kept out of line so that the fast path keeps its
+/// inputs in registers.
 #[inline(never)]
 #[cold]
 fn pair_step_checked(
@@ -454,8 +620,7 @@ fn pair_step_checked(
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
-    out: &mut rsl_contact_loads,
-) -> Result<(), Error> {
+) -> Result<rsl_contact_loads, Error> {
     let step = step_input(input)?;
     let mut s = ContactState::from(&*state);
     let o = contact_step_pair(
@@ -469,8 +634,7 @@ fn pair_step_checked(
     if !step.setup || model.preset.conventions().setup.store {
         store(state, &s, loads.slip_flags);
     }
-    *out = loads;
-    Ok(())
+    Ok(loads)
 }
 
 /// Steps one sphere-sphere contact: transports the springs, computes the rates, steps the
@@ -505,8 +669,16 @@ pub unsafe extern "C" fn rsl_contact_step(
         // SAFETY: every pointer is non-NULL and 8-aligned (tested just above; 8 is the
         // alignment of each type, asserted below); validity, liveness and no overlap of the
         // outputs are the caller's contract stated above.
-        let (m, b1, b2, inp, st, o) =
-            unsafe { (&*model, &*body1, &*body2, &*contact, &mut *state, &mut *out) };
+        let (m, b1, b2, inp, st, sink) = unsafe {
+            (
+                &*model,
+                &*body1,
+                &*body2,
+                &*contact,
+                &mut *state,
+                LoadsOut::new(out),
+            )
+        };
         if m.is_live() {
             debug_assert_eq!(
                 m.scene,
@@ -517,8 +689,8 @@ pub unsafe extern "C" fn rsl_contact_step(
             // panic anywhere, none is known, is reported as RSL_ERR_INTERNAL).
             return guard_status(|| {
                 // SAFETY: the handle's step is an AVX2 build only when the CPU has AVX2 and
-                // FMA (`fast_pair_step_for`), its only requirement.
-                unsafe { (m.pair_fast_path)(m, b1, b2, inp, st, o) }
+                // FMA (`pair_steps_for`), its only requirement.
+                unsafe { (m.pair_steps.out)(m, b1, b2, inp, st, sink) }
             });
         }
     }
@@ -534,7 +706,100 @@ pub unsafe extern "C" fn rsl_contact_step(
                 output(out, "out")?,
             )
         };
-        Ok(pair_step_checked(&m.model, b1, b2, inp, st, out)?)
+        *out = pair_step_checked(&m.model, b1, b2, inp, st)?;
+        Ok(())
+    })
+}
+
+/// Steps one sphere-sphere contact as `rsl_contact_step` does (same physics, same checks, same
+/// status, same state) and adds its loads to the bodies' accumulators instead of returning
+/// them: `*force1 += F`, `*torque1 += T1`, `*force2 -= F`, `*torque2 += T2` (`F`, `T1`, `T2`
+/// are `rsl_contact_loads`' `force1`, `torque1`, `torque2`: forces, and torques about each
+/// body's centre). This is the loop body of a DEM force computation
+/// (`rsl_contact_step_accumulate(m, &p[i], &p[j], &in, &st[c], &f[i], &t[i], &f[j], &t[j])`);
+/// the library knows where the loads go before it steps, and fetches those cache lines while
+/// it computes. Use `rsl_contact_step` for the other outputs (sliding force, moments, energy).
+///
+/// `*state` and the accumulators are written only on `RSL_OK` (with `RSL_INPUT_SETUP`,
+/// `*state` as `rsl_contact_step` writes it); the sums themselves are not checked. The
+/// accumulators may point to the same vector (the four adds are done in the order above).
+///
+/// Errors: those of `rsl_contact_step`.
+///
+/// # Safety
+/// Every pointer must be valid for its type during the call; `state` and the accumulators must
+/// not overlap the inputs, and `state` must not overlap the accumulators. The model must not be
+/// modified during the call.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn rsl_contact_step_accumulate(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+) -> i32 {
+    if all_set_and_aligned(&[
+        model as usize,
+        body1 as usize,
+        body2 as usize,
+        contact as usize,
+        state as usize,
+        force1 as usize,
+        torque1 as usize,
+        force2 as usize,
+        torque2 as usize,
+    ]) {
+        // SAFETY: every pointer is non-NULL and 8-aligned (tested just above; 8 is the
+        // alignment of each type, asserted below); validity, liveness and no overlap are the
+        // caller's contract stated above (the accumulators stay raw pointers: they may alias
+        // each other).
+        let (m, b1, b2, inp, st, sink) = unsafe {
+            (
+                &*model,
+                &*body1,
+                &*body2,
+                &*contact,
+                &mut *state,
+                Accumulators::new(force1, torque1, force2, torque2),
+            )
+        };
+        if m.is_live() {
+            debug_assert_eq!(
+                m.scene,
+                Scene::classify(&m.model),
+                "stale scene in the handle"
+            );
+            // As in `rsl_contact_step`.
+            return guard_status(|| {
+                // SAFETY: as in `rsl_contact_step`.
+                unsafe { (m.pair_steps.accumulate)(m, b1, b2, inp, st, sink) }
+            });
+        }
+    }
+    guard(|| {
+        // SAFETY: forwarded contract; every helper checks NULL and alignment.
+        let (m, b1, b2, inp, st, sink) = unsafe {
+            (
+                live_model(model)?,
+                input(body1, "body1")?,
+                input(body2, "body2")?,
+                input(contact, "input")?,
+                output(state, "state")?,
+                Accumulators::new(
+                    checked_pointer(force1, "force1")?,
+                    checked_pointer(torque1, "torque1")?,
+                    checked_pointer(force2, "force2")?,
+                    checked_pointer(torque2, "torque2")?,
+                ),
+            )
+        };
+        sink.deliver(&pair_step_checked(&m.model, b1, b2, inp, st)?);
+        Ok(())
     })
 }
 
@@ -545,6 +810,7 @@ const _: () = {
     assert!(std::mem::align_of::<rsl_contact_input>() == 8);
     assert!(std::mem::align_of::<rsl_contact_state>() == 8);
     assert!(std::mem::align_of::<rsl_contact_loads>() == 8);
+    assert!(std::mem::align_of::<rsl_vec3>() == 8);
 };
 
 /// Whether every address is non-zero and a multiple of 8, tested without a branch per address.
@@ -553,6 +819,31 @@ fn all_set_and_aligned(addresses: &[usize]) -> bool {
     let set = addresses.iter().fold(true, |ok, &a| ok & (a != 0));
     let bits = addresses.iter().fold(0, |acc, &a| acc | a);
     set & (bits % 8 == 0)
+}
+
+/// `rsl_contact_step_wall`'s step once its pointers are checked: writes `*state` (as
+/// `pair_step_checked`) and returns the loads on success.
+fn wall_step_checked(
+    model: &Model,
+    sphere: &rsl_sphere,
+    wall: &rsl_wall,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+) -> Result<rsl_contact_loads, Error> {
+    let step = step_input(input)?;
+    let mut s = ContactState::from(&*state);
+    let o = contact_step_wall(
+        model,
+        &Sphere::from(sphere),
+        &Wall::from(wall),
+        &step,
+        &mut s,
+    )?;
+    let loads = to_c(&o);
+    if !step.setup || model.preset.conventions().setup.store {
+        store(state, &s, loads.slip_flags);
+    }
+    Ok(loads)
 }
 
 /// Steps one sphere-wall contact (body 2 is the wall); as `rsl_contact_step`.
@@ -580,14 +871,48 @@ pub unsafe extern "C" fn rsl_contact_step_wall(
                 output(out, "out")?,
             )
         };
-        let step = step_input(inp)?;
-        let mut s = ContactState::from(&*st);
-        let o = contact_step_wall(&m.model, &Sphere::from(s1), &Wall::from(w), &step, &mut s)?;
-        let loads = to_c(&o);
-        if !step.setup || m.model.preset.conventions().setup.store {
-            store(st, &s, loads.slip_flags);
-        }
-        *out = loads;
+        *out = wall_step_checked(&m.model, s1, w, inp, st)?;
+        Ok(())
+    })
+}
+
+/// Steps one sphere-wall contact as `rsl_contact_step_wall` does and adds the sphere's loads
+/// to its accumulators: `*force += force1`, `*torque += torque1` (torque about the sphere's
+/// centre). The wall's loads are not returned (use `rsl_contact_step_wall` for them).
+/// `*state` and the accumulators are written only on `RSL_OK`; `force` and `torque` may be the
+/// same vector.
+///
+/// Errors: those of `rsl_contact_step_wall`.
+///
+/// # Safety
+/// As `rsl_contact_step_accumulate`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_contact_step_wall_accumulate(
+    model: *const super::model::rsl_model,
+    sphere: *const rsl_sphere,
+    wall: *const rsl_wall,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract; every helper checks NULL and alignment (the accumulators
+        // stay raw pointers: they may alias each other).
+        let (m, s1, w, inp, st, sink) = unsafe {
+            (
+                live_model(model)?,
+                input(sphere, "sphere")?,
+                input(wall, "wall")?,
+                input(contact, "input")?,
+                output(state, "state")?,
+                SphereAccumulators {
+                    force: checked_pointer(force, "force")?,
+                    torque: checked_pointer(torque, "torque")?,
+                },
+            )
+        };
+        sink.deliver(&wall_step_checked(&m.model, s1, w, inp, st)?);
         Ok(())
     })
 }
@@ -747,8 +1072,34 @@ mod tests {
         (b1, b2, input, state)
     }
 
-    /// Steps `c` both ways; asserts the same status, the same bits out and the same state (the
-    /// caller's on a refusal). Returns the status.
+    /// The accumulators' values before a step: distinct, non-zero, so that each add shows.
+    const ACCUMULATED: [rsl_vec3; 4] = [
+        rsl_vec3 {
+            x: 1.5,
+            y: -2.25,
+            z: 3.125,
+        },
+        rsl_vec3 {
+            x: -0.75,
+            y: 0.5,
+            z: 7.0,
+        },
+        rsl_vec3 {
+            x: 11.0,
+            y: 0.0625,
+            z: -4.5,
+        },
+        rsl_vec3 {
+            x: 0.375,
+            y: -9.0,
+            z: 2.0,
+        },
+    ];
+
+    /// Steps `c` both ways (fast path and checked path) with both entry points
+    /// (`rsl_contact_step`, `rsl_contact_step_accumulate`); asserts the same status, the same
+    /// bits out and the same state (the caller's on a refusal), and that the accumulators
+    /// received exactly `rsl_contact_step`'s loads (or nothing on a refusal). Returns the status.
     fn same(handle: &rsl_model, c: &Case, what: &str) -> i32 {
         let (b1, b2, input, state0) = c;
         let mut checked_input = *input;
@@ -761,6 +1112,62 @@ mod tests {
                               // SAFETY: every pointer is to a live local of the right type; none overlap.
             let status = unsafe { rsl_contact_step(handle, b1, b2, i, &mut state, &mut out) };
             runs.push((status, state, out));
+            let mut acc = ACCUMULATED;
+            let mut acc_state = *state0;
+            let [f1, t1, f2, t2] = &mut acc;
+            // SAFETY: as above.
+            let acc_status = unsafe {
+                rsl_contact_step_accumulate(handle, b1, b2, i, &mut acc_state, f1, t1, f2, t2)
+            };
+            let added = |a: &rsl_vec3, v: &rsl_vec3, sign: f64| {
+                let r = |a: f64, v: f64| if sign > 0.0 { a + v } else { a - v };
+                rsl_vec3 {
+                    x: r(a.x, v.x),
+                    y: r(a.y, v.y),
+                    z: r(a.z, v.z),
+                }
+            };
+            let expected = if status == RSL_OK {
+                let [f1, t1, f2, t2] = &ACCUMULATED;
+                [
+                    added(f1, &out.force1, 1.0),
+                    added(t1, &out.torque1, 1.0),
+                    added(f2, &out.force1, -1.0),
+                    added(t2, &out.torque2, 1.0),
+                ]
+            } else {
+                ACCUMULATED
+            };
+            let bits = |v: &[rsl_vec3; 4]| v.map(|v| [v.x, v.y, v.z].map(f64::to_bits));
+            assert_eq!(acc_status, status, "{what}: accumulate's status");
+            assert_eq!(bits(&acc), bits(&expected), "{what}: accumulated loads");
+            let state_bits = |s: &rsl_contact_state| {
+                let v = [s.sliding_spring, s.rolling_spring, s.twisting_offaxis];
+                let mut b: Vec<u64> = v
+                    .iter()
+                    .flat_map(|v| [v.x, v.y, v.z])
+                    .map(f64::to_bits)
+                    .collect();
+                b.extend([
+                    s.twisting_angle.to_bits(),
+                    s.slip_flags as u64,
+                    s.reserved as u64,
+                ]);
+                b.extend(
+                    [
+                        s.previous_normal.x,
+                        s.previous_normal.y,
+                        s.previous_normal.z,
+                    ]
+                    .map(f64::to_bits),
+                );
+                b
+            };
+            assert_eq!(
+                state_bits(&acc_state),
+                state_bits(&state),
+                "{what}: accumulate's state"
+            );
         }
         let bits = |(status, s, o): &(i32, rsl_contact_state, rsl_contact_loads)| {
             // Bits, so that NaN compares and -0 differs from 0.
@@ -823,11 +1230,14 @@ mod tests {
             if avx2 && !Simd::Avx2.available() {
                 continue;
             }
-            let table = fast_pair_steps(avx2);
             levels += 1;
             for model in models() {
                 let mut handle = rsl_model::live(model);
-                handle.pair_fast_path = table[handle.scene as usize];
+                let scene = handle.scene as usize;
+                handle.pair_steps = PairSteps {
+                    out: scene_steps(avx2)[scene],
+                    accumulate: scene_steps(avx2)[scene],
+                };
                 for _ in 0..100 {
                     let mut c = case(&mut rng);
                     for _ in 0..3 {

@@ -100,6 +100,18 @@ pub(crate) unsafe fn output<'a, T>(p: *mut T, name: &'static str) -> Result<&'a 
     Ok(unsafe { &mut *p })
 }
 
+/// Checks a pointer the step reads and writes through without borrowing it (accumulators, which
+/// may alias each other), refusing NULL and misaligned pointers.
+pub(crate) fn checked_pointer<T>(p: *mut T, name: &'static str) -> Result<*mut T, FfiError> {
+    if p.is_null() {
+        return Err(FfiError::NullPointer(name));
+    }
+    if !p.is_aligned() {
+        return Err(FfiError::Misaligned(name));
+    }
+    Ok(p)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,7 +5,7 @@
 use super::status::FfiError;
 use super::{guard, input, output};
 use crate::batch::scene::Scene;
-use crate::capi::contact::{fast_pair_step_for, FastPairStep};
+use crate::capi::contact::{pair_steps_for, PairSteps};
 use crate::error::Error;
 use crate::geometry::GeometryOptions;
 use crate::laws::model::{
@@ -90,9 +90,9 @@ pub struct rsl_model {
     /// `Scene::classify(&model)`, kept in step with `model` (the per-contact fast path's
     /// kernel).
     pub(crate) scene: Scene,
-    /// `rsl_contact_step` for `scene` on this CPU (its fast path, the checked step on refusal),
-    /// chosen once here rather than per call.
-    pub(crate) pair_fast_path: FastPairStep,
+    /// `rsl_contact_step` and `rsl_contact_step_accumulate` for `scene` on this CPU (its fast
+    /// path, the checked step on refusal), chosen once here rather than per call.
+    pub(crate) pair_steps: PairSteps,
 }
 
 impl rsl_model {
@@ -108,7 +108,7 @@ impl rsl_model {
             magic: LIVE,
             model,
             scene,
-            pair_fast_path: fast_pair_step_for(scene),
+            pair_steps: pair_steps_for(scene),
         }
     }
 }
@@ -521,10 +521,11 @@ mod tests {
             assert_eq!(rsl_model_new(RSL_PRESET_LAMMPS_2021, &mut p), RSL_OK);
             let scene = |p: *mut rsl_model| {
                 // The fast path the handle calls is its scene's (same table entry).
-                let expected = fast_pair_step_for((*p).scene) as usize;
+                let expected = pair_steps_for((*p).scene);
+                let steps = (*p).pair_steps;
                 assert_eq!(
-                    (*p).pair_fast_path as usize,
-                    expected,
+                    (steps.out as usize, steps.accumulate as usize),
+                    (expected.out as usize, expected.accumulate as usize),
                     "another scene's path"
                 );
                 ((*p).scene, Scene::classify(&(*p).model))
