@@ -694,6 +694,27 @@ pub unsafe extern "C" fn rsl_contact_step(
             });
         }
     }
+    // SAFETY: forwarded contract.
+    unsafe { contact_step_reporting(model, body1, body2, contact, state, out) }
+}
+
+/// `rsl_contact_step` for arguments its fast entry did not take (a NULL or misaligned pointer,
+/// a handle that is not a live model): checks each argument and reports the first bad one, or
+/// steps through the checked path. Out of line, so that its frame and saved registers are not
+/// paid by every call.
+///
+/// # Safety
+/// As `rsl_contact_step`.
+#[cold]
+#[inline(never)]
+unsafe fn contact_step_reporting(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    out: *mut rsl_contact_loads,
+) -> i32 {
     guard(|| {
         // SAFETY: forwarded contract; every helper checks NULL and alignment.
         let (m, b1, b2, inp, st, out) = unsafe {
@@ -781,6 +802,33 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate(
             });
         }
     }
+    // SAFETY: forwarded contract.
+    unsafe {
+        contact_step_accumulate_reporting(
+            model, body1, body2, contact, state, force1, torque1, force2, torque2,
+        )
+    }
+}
+
+/// `rsl_contact_step_accumulate` for arguments its fast entry did not take; as
+/// [`contact_step_reporting`].
+///
+/// # Safety
+/// As `rsl_contact_step_accumulate`.
+#[cold]
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn contact_step_accumulate_reporting(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+) -> i32 {
     guard(|| {
         // SAFETY: forwarded contract; every helper checks NULL and alignment.
         let (m, b1, b2, inp, st, sink) = unsafe {
@@ -813,12 +861,15 @@ const _: () = {
     assert!(std::mem::align_of::<rsl_vec3>() == 8);
 };
 
-/// Whether every address is non-zero and a multiple of 8, tested without a branch per address.
+/// Whether every address is non-zero and a multiple of 8, tested without a branch per address:
+/// such an address minus 8 is a multiple of 8 below `2^63`, so the OR of all of them has
+/// neither a low bit nor the top bit set (two instructions per address). An address in the
+/// upper half of the address space (never a user-space one on x86-64 or AArch64) also gives
+/// "no": the caller then takes its reporting path, which checks each pointer on its own.
 #[inline(always)]
 fn all_set_and_aligned(addresses: &[usize]) -> bool {
-    let set = addresses.iter().fold(true, |ok, &a| ok & (a != 0));
-    let bits = addresses.iter().fold(0, |acc, &a| acc | a);
-    set & (bits % 8 == 0)
+    let bits = addresses.iter().fold(0, |acc, &a| acc | a.wrapping_sub(8));
+    bits & (7 | 1 << (usize::BITS - 1)) == 0
 }
 
 /// `rsl_contact_step_wall`'s step once its pointers are checked: writes `*state` (as
