@@ -6,11 +6,14 @@
  *
  * The host (this file) owns what a DEM code usually owns: the particles, a linked-cell search
  * with Verlet neighbour lists, the velocity-Verlet integrator, gravity and the normal force (a
- * linear spring-dashpot). rollslide computes every other contact load: rsl_contact_step for
- * each sphere-sphere contact, rsl_contact_step_wall for each sphere-plate contact. They return
- * the sliding force, the rolling moment and the twisting torque, assembled with the normal force
- * we pass in into the force and torques on both bodies, and update the per-contact history
- * (rsl_contact_state, plain data) that the host keeps next to its neighbour list.
+ * linear spring-dashpot). rollslide computes every other contact load:
+ * rsl_contact_step_accumulate for each sphere-sphere contact, rsl_contact_step_wall_accumulate
+ * for each sphere-plate contact. They step the sliding, rolling and twisting laws, assemble
+ * them with the normal force we pass in into the force and torques on both bodies, add those to
+ * the host's force and torque arrays, and update the per-contact history (rsl_contact_state,
+ * plain data) that the host keeps next to its neighbour list. (rsl_contact_step and
+ * rsl_contact_step_wall return the same loads in a struct instead, with the sliding force,
+ * rolling moment, twisting torque and energy terms.)
  *
  * Contact laws: sliding spring-dashpot-slider (k_t = 2/7 k_n, mu_s = 0.5); rolling resistance
  * by the elastic-plastic spring-dashpot law (EPSD, "type C" of Ai et al.: k_r = 2.25 k_n mu_r^2,
@@ -112,18 +115,6 @@ static rsl_vec3 v3(double x, double y, double z) {
     v.y = y;
     v.z = z;
     return v;
-}
-
-static void add3(rsl_vec3 *a, rsl_vec3 b) {
-    a->x += b.x;
-    a->y += b.y;
-    a->z += b.z;
-}
-
-static void sub3(rsl_vec3 *a, rsl_vec3 b) {
-    a->x -= b.x;
-    a->y -= b.y;
-    a->z -= b.z;
 }
 
 /* xorshift64*: a small deterministic generator (each case has its own, same seed). */
@@ -401,8 +392,9 @@ static double normal_force(const sim *S, double overlap, double ddot, double m_e
     return f > 0.0 ? f : 0.0;
 }
 
-/* All contact loads: sphere-sphere through rsl_contact_step, sphere-plate through
- * rsl_contact_step_wall. The history of a contact that opened is reset to a fresh one. */
+/* All contact loads: sphere-sphere through rsl_contact_step_accumulate, sphere-plate through
+ * rsl_contact_step_wall_accumulate. The history of a contact that opened is reset to a fresh
+ * one. */
 static void compute_forces(sim *S) {
     for (int i = 0; i < S->n; i++) {
         S->force[i] = v3(0, 0, -S->mass[i]); /* gravity, g = 1 along -z */
@@ -412,7 +404,6 @@ static void compute_forces(sim *S) {
     memset(&in, 0, sizeof in);
     in.dt = S->p.dt;
     in.normal_stiffness = S->p.k_n;
-    rsl_contact_loads out;
     for (int i = 0; i < S->n; i++) {
         if (S->kind[i] == GONE) continue;
         const rsl_sphere *a = &S->s[i];
@@ -442,15 +433,13 @@ static void compute_forces(sim *S) {
             in.mass2 = S->mass[j];
             in.inertia1 = S->inertia[i];
             in.inertia2 = S->inertia[j];
-            int32_t st = rsl_contact_step(S->model, a, b, &in, &e->state, &out);
-            if (st != RSL_OK) die_status(st, "rsl_contact_step");
+            /* Adds force1 = -f_n n + F_t (it contains the normal force we passed in) to
+             * force[i], subtracts it from force[j], adds the torques to torque[i], torque[j]. */
+            int32_t st = rsl_contact_step_accumulate(S->model, a, b, &in, &e->state, &S->force[i],
+                                                     &S->torque[i], &S->force[j], &S->torque[j]);
+            if (st != RSL_OK) die_status(st, "rsl_contact_step_accumulate");
             e->touching = 1;
             S->contact_calls++;
-            /* force1 = -f_n n + F_t: it contains the normal force we passed in. */
-            add3(&S->force[i], out.force1);
-            sub3(&S->force[j], out.force1);
-            add3(&S->torque[i], out.torque1);
-            add3(&S->torque[j], out.torque2);
         }
         if (S->kind[i] != MOBILE) continue;
         /* The plate z = 0. */
@@ -462,12 +451,11 @@ static void compute_forces(sim *S) {
             in.normal_force = normal_force(S, overlap, a->velocity.z, S->mass[i]);
             in.mass1 = S->mass[i];
             in.inertia1 = S->inertia[i];
-            int32_t st =
-                rsl_contact_step_wall(S->model, a, &S->plate, &in, &S->plate_state[i], &out);
-            if (st != RSL_OK) die_status(st, "rsl_contact_step_wall");
+            int32_t st = rsl_contact_step_wall_accumulate(S->model, a, &S->plate, &in,
+                                                          &S->plate_state[i], &S->force[i],
+                                                          &S->torque[i]);
+            if (st != RSL_OK) die_status(st, "rsl_contact_step_wall_accumulate");
             S->contact_calls++;
-            add3(&S->force[i], out.force1);
-            add3(&S->torque[i], out.torque1);
         } else {
             S->on_plate[i] = 0;
         }
