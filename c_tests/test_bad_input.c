@@ -1049,6 +1049,30 @@ void test_bad_input_contact_step_accumulate_mirrors_contact_step(void) {
     CHECK(accepted == 6);
     CHECK(refused >= 2 * 3 * (20 + 10 + 12 + 13 * 2));
 
+    /* one vector passed twice (force1 = force2, torque1 = torque2), both paths: each add reads
+     * what the previous one wrote */
+    for (int plain = 0; plain < 2; plain++) {
+        rsl_contact_input base = in;
+        if (plain) base.flags = 0;
+        rsl_contact_state s1 = st, s2 = st;
+        rsl_contact_loads out;
+        rsl_vec3 f = rsl_test_vec(1.0, 2.0, 3.0), t = rsl_test_vec(-1.0, 0.5, 4.0);
+        CHECK_STATUS(rsl_contact_step(m, &a, &b, &base, &s1, &out), RSL_OK);
+        CHECK_STATUS(rsl_contact_step_accumulate(m, &a, &b, &base, &s2, &f, &t, &f, &t), RSL_OK);
+        rsl_vec3 ef = added(added(rsl_test_vec(1.0, 2.0, 3.0), out.force1, 1), out.force1, -1);
+        rsl_vec3 et = added(added(rsl_test_vec(-1.0, 0.5, 4.0), out.torque1, 1), out.torque2, 1);
+        CHECK(memcmp(&f, &ef, sizeof f) == 0);
+        CHECK(memcmp(&t, &et, sizeof t) == 0);
+        CHECK(memcmp(&s1, &s2, sizeof s1) == 0);
+        rsl_vec3 ft = rsl_test_vec(0.25, -0.5, 8.0);
+        s2 = fresh;
+        s1 = fresh;
+        CHECK_STATUS(rsl_contact_step_wall(m, &s, &w, &base, &s1, &out), RSL_OK);
+        CHECK_STATUS(rsl_contact_step_wall_accumulate(m, &s, &w, &base, &s2, &ft, &ft), RSL_OK);
+        rsl_vec3 eft = added(added(rsl_test_vec(0.25, -0.5, 8.0), out.force1, 1), out.torque1, 1);
+        CHECK(memcmp(&ft, &eft, sizeof ft) == 0);
+    }
+
     /* each pointer argument, NULL and misaligned: the accumulators and state stay */
     rsl_vec3 acc[4], kept_acc[4];
     rsl_contact_state kept = st;

@@ -375,7 +375,7 @@ fn prefetch_vec3(p: *const rsl_vec3) {
     let _ = p;
 }
 
-/// `*p += v` (`sign` +1) or `*p -= v` (`sign` -1), through a raw pointer.
+/// `*p += v`, or `*p -= v` when `subtract`, through a raw pointer.
 ///
 /// # Safety
 /// `p` must be valid for reads and writes of an `rsl_vec3`, not referenced elsewhere meanwhile.
@@ -419,14 +419,21 @@ pub(crate) struct SphereAccumulators {
     torque: *mut rsl_vec3,
 }
 
+impl SphereAccumulators {
+    /// # Safety
+    /// As [`Accumulators::new`].
+    unsafe fn new(force: *mut rsl_vec3, torque: *mut rsl_vec3) -> Self {
+        SphereAccumulators { force, torque }
+    }
+}
+
 impl LoadsSink for SphereAccumulators {
     #[inline(always)]
     fn expect(self) {}
 
     #[inline(always)]
     fn deliver(self, loads: &rsl_contact_loads) {
-        // SAFETY: as for `Accumulators` (built only in `rsl_contact_step_wall_accumulate`
-        // from pointers under the same contract).
+        // SAFETY: `SphereAccumulators::new`'s contract, as for `Accumulators`.
         unsafe {
             add_to(self.force, &loads.force1, false);
             add_to(self.torque, &loads.torque1, false);
@@ -957,10 +964,10 @@ pub unsafe extern "C" fn rsl_contact_step_wall_accumulate(
                 input(wall, "wall")?,
                 input(contact, "input")?,
                 output(state, "state")?,
-                SphereAccumulators {
-                    force: checked_pointer(force, "force")?,
-                    torque: checked_pointer(torque, "torque")?,
-                },
+                SphereAccumulators::new(
+                    checked_pointer(force, "force")?,
+                    checked_pointer(torque, "torque")?,
+                ),
             )
         };
         sink.deliver(&wall_step_checked(&m.model, s1, w, inp, st)?);
