@@ -628,17 +628,25 @@ fn pair_step_checked(
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
 ) -> Result<rsl_contact_loads, Error> {
-    let step = step_input(input)?;
+    let (b1, b2) = (Sphere::from(body1), Sphere::from(body2));
+    checked_step_with(model, input, state, |i, s| {
+        contact_step_pair(model, &b1, &b2, i, s)
+    })
+}
+
+/// A checked step on the C structs: converts the input (flags included) and the state, runs
+/// `step` (the checked pair or wall step of `model`), writes `*state` where the preset's setup
+/// pass does (always outside it) and returns the loads; writes nothing on an error.
+fn checked_step_with(
+    model: &Model,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    step: impl FnOnce(&StepInput<f64>, &mut ContactState<f64>) -> Result<StepOutput<f64>, Error>,
+) -> Result<rsl_contact_loads, Error> {
+    let step_in = step_input(input)?;
     let mut s = ContactState::from(&*state);
-    let o = contact_step_pair(
-        model,
-        &Sphere::from(body1),
-        &Sphere::from(body2),
-        &step,
-        &mut s,
-    )?;
-    let loads = to_c(&o);
-    if !step.setup || model.preset.conventions().setup.store {
+    let loads = to_c(&step(&step_in, &mut s)?);
+    if !step_in.setup || model.preset.conventions().setup.store {
         store(state, &s, loads.slip_flags);
     }
     Ok(loads)
@@ -879,8 +887,7 @@ fn all_set_and_aligned(addresses: &[usize]) -> bool {
     bits & (7 | 1 << (usize::BITS - 1)) == 0
 }
 
-/// `rsl_contact_step_wall`'s step once its pointers are checked: writes `*state` (as
-/// `pair_step_checked`) and returns the loads on success.
+/// `rsl_contact_step_wall`'s step once its pointers are checked ([`checked_step_with`]).
 fn wall_step_checked(
     model: &Model,
     sphere: &rsl_sphere,
@@ -888,20 +895,10 @@ fn wall_step_checked(
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
 ) -> Result<rsl_contact_loads, Error> {
-    let step = step_input(input)?;
-    let mut s = ContactState::from(&*state);
-    let o = contact_step_wall(
-        model,
-        &Sphere::from(sphere),
-        &Wall::from(wall),
-        &step,
-        &mut s,
-    )?;
-    let loads = to_c(&o);
-    if !step.setup || model.preset.conventions().setup.store {
-        store(state, &s, loads.slip_flags);
-    }
-    Ok(loads)
+    let (s1, w) = (Sphere::from(sphere), Wall::from(wall));
+    checked_step_with(model, input, state, |i, s| {
+        contact_step_wall(model, &s1, &w, i, s)
+    })
 }
 
 /// Steps one sphere-wall contact (body 2 is the wall); as `rsl_contact_step`.
