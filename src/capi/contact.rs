@@ -7,6 +7,7 @@ use super::batch::Simd;
 use super::finite::Avx2;
 use super::finite::{FiniteTest, Portable};
 use super::model::live_model;
+use super::status::FfiError;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{checked_pointer, guard, guard_status, input, output};
 use crate::batch::scene::fold;
@@ -709,40 +710,45 @@ pub unsafe extern "C" fn rsl_contact_step(
             });
         }
     }
+    let sink = || {
+        // SAFETY: `out` is checked non-NULL and aligned; writable and not overlapping the
+        // inputs by `rsl_contact_step`'s contract.
+        Ok(unsafe { LoadsOut::new(checked_pointer(out, "out")?) })
+    };
     // SAFETY: forwarded contract.
-    unsafe { contact_step_reporting(model, body1, body2, contact, state, out) }
+    unsafe { pair_step_reporting(model, body1, body2, contact, state, sink) }
 }
 
-/// `rsl_contact_step` for arguments its fast entry did not take (a NULL or misaligned pointer,
-/// a handle that is not a live model): checks each argument and reports the first bad one, or
-/// steps through the checked path. Out of line, so that its frame and saved registers are not
-/// paid by every call.
+/// The per-contact pair step for arguments its fast entry did not take (a NULL or misaligned
+/// pointer, a handle that is not a live model): checks each argument in order and reports the
+/// first bad one (`sink` checks the output pointers and makes the sink), or steps through the
+/// checked path. Out of line, so that its frame and saved registers are not paid by every call.
 ///
 /// # Safety
-/// As `rsl_contact_step`.
+/// As `rsl_contact_step` for the pointers given here.
 #[cold]
 #[inline(never)]
-unsafe fn contact_step_reporting(
+unsafe fn pair_step_reporting<K: LoadsSink>(
     model: *const super::model::rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
     state: *mut rsl_contact_state,
-    out: *mut rsl_contact_loads,
+    sink: impl FnOnce() -> Result<K, FfiError>,
 ) -> i32 {
     guard(|| {
         // SAFETY: forwarded contract; every helper checks NULL and alignment.
-        let (m, b1, b2, inp, st, out) = unsafe {
+        let (m, b1, b2, inp, st) = unsafe {
             (
                 live_model(model)?,
                 input(body1, "body1")?,
                 input(body2, "body2")?,
                 input(contact, "input")?,
                 output(state, "state")?,
-                output(out, "out")?,
             )
         };
-        *out = pair_step_checked(&m.model, b1, b2, inp, st)?;
+        let sink = sink()?;
+        sink.deliver(&pair_step_checked(&m.model, b1, b2, inp, st)?);
         Ok(())
     })
 }
@@ -817,53 +823,20 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate(
             });
         }
     }
-    // SAFETY: forwarded contract.
-    unsafe {
-        contact_step_accumulate_reporting(
-            model, body1, body2, contact, state, force1, torque1, force2, torque2,
-        )
-    }
-}
-
-/// `rsl_contact_step_accumulate` for arguments its fast entry did not take; as
-/// [`contact_step_reporting`].
-///
-/// # Safety
-/// As `rsl_contact_step_accumulate`.
-#[cold]
-#[inline(never)]
-#[allow(clippy::too_many_arguments)]
-unsafe fn contact_step_accumulate_reporting(
-    model: *const super::model::rsl_model,
-    body1: *const rsl_sphere,
-    body2: *const rsl_sphere,
-    contact: *const rsl_contact_input,
-    state: *mut rsl_contact_state,
-    force1: *mut rsl_vec3,
-    torque1: *mut rsl_vec3,
-    force2: *mut rsl_vec3,
-    torque2: *mut rsl_vec3,
-) -> i32 {
-    guard(|| {
-        // SAFETY: forwarded contract; every helper checks NULL and alignment.
-        let (m, b1, b2, inp, st, sink) = unsafe {
-            (
-                live_model(model)?,
-                input(body1, "body1")?,
-                input(body2, "body2")?,
-                input(contact, "input")?,
-                output(state, "state")?,
-                Accumulators::new(
-                    checked_pointer(force1, "force1")?,
-                    checked_pointer(torque1, "torque1")?,
-                    checked_pointer(force2, "force2")?,
-                    checked_pointer(torque2, "torque2")?,
-                ),
+    let sink = || {
+        // SAFETY: each accumulator is checked non-NULL and aligned; valid and not
+        // overlapping the inputs or the state by this function's contract.
+        Ok(unsafe {
+            Accumulators::new(
+                checked_pointer(force1, "force1")?,
+                checked_pointer(torque1, "torque1")?,
+                checked_pointer(force2, "force2")?,
+                checked_pointer(torque2, "torque2")?,
             )
-        };
-        sink.deliver(&pair_step_checked(&m.model, b1, b2, inp, st)?);
-        Ok(())
-    })
+        })
+    };
+    // SAFETY: forwarded contract.
+    unsafe { pair_step_reporting(model, body1, body2, contact, state, sink) }
 }
 
 // The per-contact fast path tests every pointer for 8-byte alignment at once.
@@ -914,19 +887,40 @@ pub unsafe extern "C" fn rsl_contact_step_wall(
     state: *mut rsl_contact_state,
     out: *mut rsl_contact_loads,
 ) -> i32 {
+    let sink = || {
+        // SAFETY: as in `rsl_contact_step`.
+        Ok(unsafe { LoadsOut::new(checked_pointer(out, "out")?) })
+    };
+    // SAFETY: forwarded contract.
+    unsafe { wall_step_reporting(model, sphere, wall, contact, state, sink) }
+}
+
+/// The sphere-wall step with every argument checked in order (the first bad one reported;
+/// `sink` checks the output pointers and makes the sink), through the checked path.
+///
+/// # Safety
+/// As `rsl_contact_step_wall` for the pointers given here.
+unsafe fn wall_step_reporting<K: LoadsSink>(
+    model: *const super::model::rsl_model,
+    sphere: *const rsl_sphere,
+    wall: *const rsl_wall,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    sink: impl FnOnce() -> Result<K, FfiError>,
+) -> i32 {
     guard(|| {
         // SAFETY: forwarded contract; every helper checks NULL and alignment.
-        let (m, s1, w, inp, st, out) = unsafe {
+        let (m, s1, w, inp, st) = unsafe {
             (
                 live_model(model)?,
                 input(sphere, "sphere")?,
                 input(wall, "wall")?,
                 input(contact, "input")?,
                 output(state, "state")?,
-                output(out, "out")?,
             )
         };
-        *out = wall_step_checked(&m.model, s1, w, inp, st)?;
+        let sink = sink()?;
+        sink.deliver(&wall_step_checked(&m.model, s1, w, inp, st)?);
         Ok(())
     })
 }
@@ -951,25 +945,19 @@ pub unsafe extern "C" fn rsl_contact_step_wall_accumulate(
     force: *mut rsl_vec3,
     torque: *mut rsl_vec3,
 ) -> i32 {
-    guard(|| {
-        // SAFETY: forwarded contract; every helper checks NULL and alignment (the accumulators
-        // stay raw pointers: they may alias each other).
-        let (m, s1, w, inp, st, sink) = unsafe {
-            (
-                live_model(model)?,
-                input(sphere, "sphere")?,
-                input(wall, "wall")?,
-                input(contact, "input")?,
-                output(state, "state")?,
-                SphereAccumulators::new(
-                    checked_pointer(force, "force")?,
-                    checked_pointer(torque, "torque")?,
-                ),
+    let sink = || {
+        // SAFETY: both accumulators are checked non-NULL and aligned; valid and not
+        // overlapping the inputs or the state by this function's contract (they stay raw
+        // pointers: they may alias each other).
+        Ok(unsafe {
+            SphereAccumulators::new(
+                checked_pointer(force, "force")?,
+                checked_pointer(torque, "torque")?,
             )
-        };
-        sink.deliver(&wall_step_checked(&m.model, s1, w, inp, st)?);
-        Ok(())
-    })
+        })
+    };
+    // SAFETY: forwarded contract.
+    unsafe { wall_step_reporting(model, sphere, wall, contact, state, sink) }
 }
 
 /// Critical time step of velocity Verlet for a rotational spring-dashpot (models.md section 5):
