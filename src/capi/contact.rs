@@ -674,40 +674,24 @@ pub unsafe extern "C" fn rsl_contact_step(
     state: *mut rsl_contact_state,
     out: *mut rsl_contact_loads,
 ) -> i32 {
-    if all_set_and_aligned(&[
+    let pointers_ok = all_set_and_aligned(&[
         model as usize,
         body1 as usize,
         body2 as usize,
         contact as usize,
         state as usize,
         out as usize,
-    ]) {
-        // SAFETY: every pointer is non-NULL and 8-aligned (tested just above; 8 is the
-        // alignment of each type, asserted below); validity, liveness and no overlap of the
-        // outputs are the caller's contract stated above.
-        let (m, b1, b2, inp, st, sink) = unsafe {
-            (
-                &*model,
-                &*body1,
-                &*body2,
-                &*contact,
-                &mut *state,
-                LoadsOut::new(out),
-            )
-        };
-        if m.is_live() {
-            debug_assert_eq!(
-                m.scene,
-                Scene::classify(&m.model),
-                "stale scene in the handle"
-            );
-            // Behind the panic boundary (the fast path writes nothing before it succeeds; a
-            // panic anywhere, none is known, is reported as RSL_ERR_INTERNAL).
-            return guard_status(|| {
-                // SAFETY: the handle's step is an AVX2 build only when the CPU has AVX2 and
-                // FMA (`pair_steps_for`), its only requirement.
-                unsafe { (m.pair_steps.out)(m, b1, b2, inp, st, sink) }
-            });
+    ]);
+    if pointers_ok {
+        // SAFETY: `out` is non-NULL and aligned (tested just above), writable and not
+        // overlapping the inputs by this function's contract.
+        let sink = unsafe { LoadsOut::new(out) };
+        // SAFETY: every pointer is non-NULL and aligned (tested just above); this function's
+        // contract.
+        if let Some(status) =
+            unsafe { pair_step_fast_entry(model, body1, body2, contact, state, sink) }
+        {
+            return status;
         }
     }
     let sink = || {
@@ -717,6 +701,63 @@ pub unsafe extern "C" fn rsl_contact_step(
     };
     // SAFETY: forwarded contract.
     unsafe { pair_step_reporting(model, body1, body2, contact, state, sink) }
+}
+
+/// A sink with the model handle's step for it (`rsl_contact_step`'s or
+/// `rsl_contact_step_accumulate`'s).
+pub(crate) trait PairSink: LoadsSink {
+    /// This sink's step among the handle's.
+    fn step(steps: &PairSteps) -> PairStep<Self>;
+}
+
+impl PairSink for LoadsOut {
+    #[inline(always)]
+    fn step(steps: &PairSteps) -> PairStep<Self> {
+        steps.out
+    }
+}
+
+impl PairSink for Accumulators {
+    #[inline(always)]
+    fn step(steps: &PairSteps) -> PairStep<Self> {
+        steps.accumulate
+    }
+}
+
+/// The fast entry of the per-contact pair steps, for pointers already shown non-NULL and
+/// 8-aligned: the handle's step for the sink `K` behind the panic boundary (the step writes
+/// nothing before it succeeds; a panic anywhere, none is known, is reported as
+/// `RSL_ERR_INTERNAL`), or `None` when `model` is not a live handle (the caller's reporting
+/// path says so).
+///
+/// # Safety
+/// Every pointer non-NULL and 8-aligned (8 is the alignment of each type, asserted below),
+/// valid for its type during the call, `state` not overlapping the inputs; the model not
+/// modified during the call.
+#[inline(always)]
+unsafe fn pair_step_fast_entry<K: PairSink>(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    sink: K,
+) -> Option<i32> {
+    // SAFETY: this function's contract.
+    let (m, b1, b2, inp, st) = unsafe { (&*model, &*body1, &*body2, &*contact, &mut *state) };
+    if !m.is_live() {
+        return None;
+    }
+    debug_assert_eq!(
+        m.scene,
+        Scene::classify(&m.model),
+        "stale scene in the handle"
+    );
+    Some(guard_status(|| {
+        // SAFETY: the handle's step is an AVX2 build only when the CPU has AVX2 and FMA
+        // (`pair_steps_for`), its only requirement.
+        unsafe { K::step(&m.pair_steps)(m, b1, b2, inp, st, sink) }
+    }))
 }
 
 /// The per-contact pair step for arguments its fast entry did not take (a NULL or misaligned
@@ -785,7 +826,7 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate(
     force2: *mut rsl_vec3,
     torque2: *mut rsl_vec3,
 ) -> i32 {
-    if all_set_and_aligned(&[
+    let pointers_ok = all_set_and_aligned(&[
         model as usize,
         body1 as usize,
         body2 as usize,
@@ -795,32 +836,18 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate(
         torque1 as usize,
         force2 as usize,
         torque2 as usize,
-    ]) {
-        // SAFETY: every pointer is non-NULL and 8-aligned (tested just above; 8 is the
-        // alignment of each type, asserted below); validity, liveness and no overlap are the
-        // caller's contract stated above (the accumulators stay raw pointers: they may alias
-        // each other).
-        let (m, b1, b2, inp, st, sink) = unsafe {
-            (
-                &*model,
-                &*body1,
-                &*body2,
-                &*contact,
-                &mut *state,
-                Accumulators::new(force1, torque1, force2, torque2),
-            )
-        };
-        if m.is_live() {
-            debug_assert_eq!(
-                m.scene,
-                Scene::classify(&m.model),
-                "stale scene in the handle"
-            );
-            // As in `rsl_contact_step`.
-            return guard_status(|| {
-                // SAFETY: as in `rsl_contact_step`.
-                unsafe { (m.pair_steps.accumulate)(m, b1, b2, inp, st, sink) }
-            });
+    ]);
+    if pointers_ok {
+        // SAFETY: the accumulators are non-NULL and aligned (tested just above), valid and not
+        // overlapping the inputs or the state by this function's contract (they stay raw
+        // pointers: they may alias each other).
+        let sink = unsafe { Accumulators::new(force1, torque1, force2, torque2) };
+        // SAFETY: every pointer is non-NULL and aligned (tested just above); this function's
+        // contract.
+        if let Some(status) =
+            unsafe { pair_step_fast_entry(model, body1, body2, contact, state, sink) }
+        {
+            return status;
         }
     }
     let sink = || {
