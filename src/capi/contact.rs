@@ -1142,6 +1142,27 @@ mod tests {
         (b1, b2, input, state)
     }
 
+    /// Every field of a state as bits (so that NaN compares and -0 differs from 0).
+    fn state_bits(s: &rsl_contact_state) -> Vec<u64> {
+        let vectors = [
+            s.sliding_spring,
+            s.rolling_spring,
+            s.twisting_offaxis,
+            s.previous_normal,
+        ];
+        let mut b: Vec<u64> = vectors
+            .iter()
+            .flat_map(|v| [v.x, v.y, v.z])
+            .map(f64::to_bits)
+            .collect();
+        b.extend([
+            s.twisting_angle.to_bits(),
+            s.slip_flags as u64,
+            s.reserved as u64,
+        ]);
+        b
+    }
+
     /// The accumulators' values before a step: distinct, non-zero, so that each add shows.
     const ACCUMULATED: [rsl_vec3; 4] = [
         rsl_vec3 {
@@ -1211,28 +1232,6 @@ mod tests {
             let bits = |v: &[rsl_vec3; 4]| v.map(|v| [v.x, v.y, v.z].map(f64::to_bits));
             assert_eq!(acc_status, status, "{what}: accumulate's status");
             assert_eq!(bits(&acc), bits(&expected), "{what}: accumulated loads");
-            let state_bits = |s: &rsl_contact_state| {
-                let v = [s.sliding_spring, s.rolling_spring, s.twisting_offaxis];
-                let mut b: Vec<u64> = v
-                    .iter()
-                    .flat_map(|v| [v.x, v.y, v.z])
-                    .map(f64::to_bits)
-                    .collect();
-                b.extend([
-                    s.twisting_angle.to_bits(),
-                    s.slip_flags as u64,
-                    s.reserved as u64,
-                ]);
-                b.extend(
-                    [
-                        s.previous_normal.x,
-                        s.previous_normal.y,
-                        s.previous_normal.z,
-                    ]
-                    .map(f64::to_bits),
-                );
-                b
-            };
             assert_eq!(
                 state_bits(&acc_state),
                 state_bits(&state),
@@ -1242,15 +1241,8 @@ mod tests {
         let bits = |(status, s, o): &(i32, rsl_contact_state, rsl_contact_loads)| {
             // Bits, so that NaN compares and -0 differs from 0.
             let v = |v: &rsl_vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
-            let mut b = vec![
-                *status as u64,
-                s.twisting_angle.to_bits(),
-                s.slip_flags as u64,
-            ];
-            for x in [&s.sliding_spring, &s.rolling_spring, &s.twisting_offaxis] {
-                b.extend(v(x));
-            }
-            b.extend(v(&s.previous_normal));
+            let mut b = vec![*status as u64];
+            b.extend(state_bits(s));
             for x in [&o.force1, &o.torque1, &o.torque2, &o.sliding_force] {
                 b.extend(v(x));
             }
