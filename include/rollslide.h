@@ -283,6 +283,11 @@ enum Scene
   SlidingRollingExact = 4,
   // LAMMPS_2021 preset, linear history sliding only.
   SlidingLammps = 5,
+  // LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
+  RollingTwistingLammps = 6,
+  // Objective preset, exact transport: EPSD rolling (given k, gamma, damping always, length
+  // form) + sds twisting, no sliding law.
+  RollingTwistingExact = 7,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -600,7 +605,7 @@ typedef struct rsl_rolling_params {
 } rsl_rolling_params;
 
 // Every scene, in code order.
-#define Scene_ALL { Generic, FullExact, FullLammps, SlidingExact, SlidingRollingExact, SlidingLammps, }
+#define Scene_ALL { Generic, FullExact, FullLammps, SlidingExact, SlidingRollingExact, SlidingLammps, RollingTwistingLammps, RollingTwistingExact, }
 
 
 

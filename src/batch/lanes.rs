@@ -37,6 +37,19 @@ pub trait Lanes: Real {
             }
         })
     }
+    /// The value whose lane `k` is `src[k]` (rounded to the element type); `src` holds at
+    /// least `N` values.
+    #[inline(always)]
+    fn load(src: &[f64]) -> Self {
+        Self::from_fn(|k| src[k])
+    }
+    /// Writes lane `k` to `dst[k]` (exact); `dst` holds at least `N` values.
+    #[inline(always)]
+    fn store(&self, dst: &mut [f64]) {
+        for (k, d) in dst[..Self::N].iter_mut().enumerate() {
+            *d = self.lane(k);
+        }
+    }
     /// Scratch array with one `X` per lane.
     type Arr<X: Copy>: Copy + std::ops::Index<usize, Output = X> + std::ops::IndexMut<usize>;
     /// A scratch array filled with `x`.
@@ -96,6 +109,17 @@ macro_rules! f64_pack {
             #[inline(always)]
             fn from_geo(lo: $t, _hi: $t) -> Self {
                 lo
+            }
+            #[inline(always)]
+            fn load(src: &[f64]) -> Self {
+                // One vector load.
+                let mut a = [0.0; $n];
+                a.copy_from_slice(&src[..$n]);
+                AutoSimd(a)
+            }
+            #[inline(always)]
+            fn store(&self, dst: &mut [f64]) {
+                dst[..$n].copy_from_slice(&self.0);
             }
             type Arr<X: Copy> = [X; $n];
             #[inline(always)]

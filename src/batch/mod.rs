@@ -24,9 +24,11 @@
 //! [`BatchReport`] counts the failures and gives the first failing contact with the error the
 //! per-contact checked call would give for it.
 
+pub mod block;
 pub mod lanes;
 pub mod scene;
 
+pub use block::step_kernel;
 pub use lanes::{Lanes, MAX_LANES};
 pub use scene::Scene;
 
@@ -39,7 +41,7 @@ use crate::geometry::{
 };
 use crate::laws::checked::contact_step_pair;
 use crate::laws::model::{Model, RollingDamping, RollingLaw};
-use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput};
+use crate::laws::step::{ContactState, StepInput};
 use crate::scalar::{finite_probe as probe, zero_if_finite as zf, Vec3};
 use simba::simd::SimdBool;
 
@@ -569,11 +571,6 @@ fn lane3<L: Lanes>(v: &Vec3<L>, k: usize) -> Vec3<f64> {
 }
 
 #[inline(always)]
-fn arr3<L: Lanes>(v: &Vec3<L>, k: usize) -> [f64; 3] {
-    [v.x.lane(k), v.y.lane(k), v.z.lane(k)]
-}
-
-#[inline(always)]
 fn conv3<L: Lanes>(lo: &Vec3<L::Geo>, hi: &Vec3<L::Geo>) -> Vec3<L> {
     Vec3::new(
         L::from_geo(lo.x, hi.x),
@@ -740,135 +737,6 @@ fn gather<L: Lanes, P: SphereSlot>(
         geometry: [g0, g1],
         valid: (m0 | m1) & acc.simd_eq(L::zero()).bitmask(),
     }
-}
-
-/// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:
-/// [`check_batch_model`], [`check_time_step`]). `L` is the lane type, `S` the [`Scene`] code
-/// (its constants must match `model`: use [`Scene::classify`], or 0).
-#[inline(always)]
-pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess>(
-    model: &Model,
-    dt: f64,
-    access: &mut A,
-) -> BatchReport {
-    let model = scene::fold(Scene::from_code(S), model);
-    let needs_kn = needs_normal_stiffness(&model);
-    let n = access.len();
-    let mut report = BatchReport::default();
-    if refuse_ungatherable(&*access, n, &mut report) {
-        return report;
-    }
-    let mut c0 = 0;
-    while c0 < n {
-        let (lanes, idx, refs, index_ok) = chunk::<L, A>(&*access, c0, n);
-        let gathered = gather::<L, A::P>(&refs, model.geometry);
-        let zero = L::zero();
-        let force = L::from_fn(|k| access.normal_force(idx[k]));
-        let stiffness = if needs_kn {
-            L::from_fn(|k| access.normal_stiffness(idx[k]))
-        } else {
-            L::one()
-        };
-        let mut states = L::arr(access.state_ref(c0));
-        for k in 0..L::N {
-            states[k] = access.state_ref(idx[k]);
-        }
-        let st = |k: usize| states[k].load();
-        let mut state = ContactState {
-            sliding_spring: vec_lanes::<L>(|k| st(k).sliding_spring),
-            rolling_spring: vec_lanes::<L>(|k| st(k).rolling_spring),
-            twisting_angle: L::from_fn(|k| st(k).twisting_angle),
-            twisting_offaxis: vec_lanes::<L>(|k| st(k).twisting_offaxis),
-            previous_normal: vec_lanes::<L>(|k| st(k).previous_normal),
-        };
-        let mut acc = zf(force) + zf(state.twisting_angle);
-        for v in [
-            &state.sliding_spring,
-            &state.rolling_spring,
-            &state.twisting_offaxis,
-            &state.previous_normal,
-        ] {
-            acc = probe(acc, v);
-        }
-        let mut inputs_ok = acc.simd_eq(zero) & force.simd_ge(zero);
-        if needs_kn {
-            inputs_ok = inputs_ok & stiffness.simd_gt(zero) & zf(stiffness).simd_eq(zero);
-        }
-        let mut input = StepInput::new(force, L::from_fn(|_| dt));
-        input.normal_stiffness = stiffness;
-        let out = contact_step_with_geometry(
-            &model,
-            gathered.geometry_in(),
-            &gathered.body1,
-            Partner::Sphere(&gathered.body2),
-            &input,
-            &mut state,
-        );
-        let l = &out.loads;
-        let mut acc = zf(state.twisting_angle);
-        for v in [
-            &l.force1,
-            &l.torque1,
-            &l.torque2,
-            &state.sliding_spring,
-            &state.rolling_spring,
-            &state.twisting_offaxis,
-        ] {
-            acc = probe(acc, v);
-        }
-        let valid = gathered.valid
-            & index_ok
-            & (inputs_ok & acc.simd_eq(zero)).bitmask()
-            & lane_bits(lanes);
-        let slips = [
-            out.slipped[0].bitmask(),
-            out.slipped[1].bitmask(),
-            out.slipped[2].bitmask(),
-        ];
-        for k in 0..lanes {
-            let c = c0 + k;
-            if valid >> k & 1 == 1 {
-                let s = ContactState {
-                    sliding_spring: lane3(&state.sliding_spring, k),
-                    rolling_spring: lane3(&state.rolling_spring, k),
-                    twisting_angle: state.twisting_angle.lane(k),
-                    twisting_offaxis: lane3(&state.twisting_offaxis, k),
-                    previous_normal: lane3(&state.previous_normal, k),
-                };
-                let bit = |mask: u64, flag: u32| ((mask >> k) & 1) as u32 * flag;
-                let slip = bit(slips[0], SLIP_SLIDING)
-                    | bit(slips[1], SLIP_ROLLING)
-                    | bit(slips[2], SLIP_TWISTING);
-                access.state(c).store(&s, slip);
-                access.emit(
-                    c,
-                    &PairLoads {
-                        force1: arr3(&l.force1, k),
-                        torque1: arr3(&l.torque1, k),
-                        torque2: arr3(&l.torque2, k),
-                    },
-                );
-                report.processed += 1;
-            } else {
-                report.fail(c, || {
-                    step_error(
-                        &model,
-                        dt,
-                        access.bodies(c),
-                        access.normal_force(c),
-                        if needs_kn {
-                            access.normal_stiffness(c)
-                        } else {
-                            1.0
-                        },
-                        &access.state_ref(c).load(),
-                    )
-                });
-            }
-        }
-        c0 += lanes;
-    }
-    report
 }
 
 /// The error the checked per-contact step gives for a contact the kernel refused.

@@ -27,17 +27,24 @@ pub enum Scene {
     SlidingRollingExact = 4,
     /// LAMMPS_2021 preset, linear history sliding only.
     SlidingLammps = 5,
+    /// LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
+    RollingTwistingLammps = 6,
+    /// Objective preset, exact transport: EPSD rolling (given k, gamma, damping always, length
+    /// form) + sds twisting, no sliding law.
+    RollingTwistingExact = 7,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 6] = [
+    pub const ALL: [Scene; 8] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
         Scene::SlidingExact,
         Scene::SlidingRollingExact,
         Scene::SlidingLammps,
+        Scene::RollingTwistingLammps,
+        Scene::RollingTwistingExact,
     ];
 
     /// A short name (benchmark tables).
@@ -49,6 +56,8 @@ impl Scene {
             Scene::SlidingExact => "sliding/exact",
             Scene::SlidingRollingExact => "slide+roll/exact",
             Scene::SlidingLammps => "sliding/lammps",
+            Scene::RollingTwistingLammps => "roll+twist/lammps",
+            Scene::RollingTwistingExact => "roll+twist/exact",
         }
     }
 
@@ -62,6 +71,8 @@ impl Scene {
             3 => Scene::SlidingExact,
             4 => Scene::SlidingRollingExact,
             5 => Scene::SlidingLammps,
+            6 => Scene::RollingTwistingLammps,
+            7 => Scene::RollingTwistingExact,
             _ => Scene::Generic,
         }
     }
@@ -82,15 +93,23 @@ impl Scene {
 #[inline(always)]
 pub fn fold(scene: Scene, model: &Model) -> Model {
     let mut m = *model;
-    let (rolling, twisting, transport, preset) = match scene {
+    let exact = (Transport::Exact, Preset::Objective);
+    let lammps = (Transport::ProjectRescale, Preset::Lammps2021);
+    let (sliding, rolling, twisting, (transport, preset)) = match scene {
         Scene::Generic => return m,
-        Scene::FullExact => (true, true, Transport::Exact, Preset::Objective),
-        Scene::FullLammps => (true, true, Transport::ProjectRescale, Preset::Lammps2021),
-        Scene::SlidingExact => (false, false, Transport::Exact, Preset::Objective),
-        Scene::SlidingRollingExact => (true, false, Transport::Exact, Preset::Objective),
-        Scene::SlidingLammps => (false, false, Transport::ProjectRescale, Preset::Lammps2021),
+        Scene::FullExact => (true, true, true, exact),
+        Scene::FullLammps => (true, true, true, lammps),
+        Scene::SlidingExact => (true, false, false, exact),
+        Scene::SlidingRollingExact => (true, true, false, exact),
+        Scene::SlidingLammps => (true, false, false, lammps),
+        Scene::RollingTwistingLammps => (false, true, true, lammps),
+        Scene::RollingTwistingExact => (false, true, true, exact),
     };
-    m.sliding.law = SlidingLaw::Linear;
+    m.sliding.law = if sliding {
+        SlidingLaw::Linear
+    } else {
+        SlidingLaw::None
+    };
     m.rolling.law = if rolling {
         RollingLaw::Epsd
     } else {

@@ -298,12 +298,11 @@ impl BatchConfig {
                 o.flags
             )));
         }
-        let mut simd = Simd::resolve(o.simd)?;
-        if f32 && o.simd == RSL_SIMD_AUTO && simd == Simd::Avx512 {
-            // Measured: the single-precision kernel is 8 lanes wide at both levels, and the
-            // AVX2 build of it is faster (README, Performance).
-            simd = Simd::Avx2;
-        }
+        // The widest level the CPU has, for both precisions: with the block-staged kernel the
+        // AVX-512 build of the 8-lane single-precision kernel measured faster than its AVX2
+        // build (in cache 27.5 against 29.3 ns per contact, full LAMMPS set); before the
+        // staging it was the slower and `RSL_SIMD_AUTO` picked AVX2 for single precision.
+        let simd = Simd::resolve(o.simd)?;
         Ok(BatchConfig {
             f32,
             simd,
@@ -335,8 +334,10 @@ mod x86 {
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        // Eight lanes in two ymm registers: measured 1.35x faster than four lanes (in cache,
-        // full LAMMPS law set), which leave the per-chunk work and the latency chains exposed.
+        // Eight lanes in two ymm registers. With the block-staged kernel (`batch::block`),
+        // measured in cache on the full LAMMPS set: 34 ns per contact against 36-41 with four
+        // lanes (edited builds, same bench driver). Before the staging, four lanes were the
+        // faster (41 against 49).
         step_kernel::<AutoF64x8, S, A>(m, dt, a)
     }
 
@@ -416,6 +417,8 @@ macro_rules! by_scene {
             Scene::SlidingExact => $($f)::+::<3, _>($($arg),*),
             Scene::SlidingRollingExact => $($f)::+::<4, _>($($arg),*),
             Scene::SlidingLammps => $($f)::+::<5, _>($($arg),*),
+            Scene::RollingTwistingLammps => $($f)::+::<6, _>($($arg),*),
+            Scene::RollingTwistingExact => $($f)::+::<7, _>($($arg),*),
         }
     };
 }

@@ -480,7 +480,7 @@ pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
 /// The step of each scene (indexed by `Scene as usize`, the scene's code) for the sink `K`, the
 /// AVX2 builds or the portable ones. Only a CPU with AVX2 and FMA may call the AVX2 builds.
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
-fn scene_steps<K: LoadsSink>(avx2: bool) -> [PairStep<K>; 6] {
+fn scene_steps<K: LoadsSink>(avx2: bool) -> [PairStep<K>; 8] {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
         return [
@@ -490,6 +490,8 @@ fn scene_steps<K: LoadsSink>(avx2: bool) -> [PairStep<K>; 6] {
             pair_step_avx2::<3, K>,
             pair_step_avx2::<4, K>,
             pair_step_avx2::<5, K>,
+            pair_step_avx2::<6, K>,
+            pair_step_avx2::<7, K>,
         ];
     }
     [
@@ -499,6 +501,8 @@ fn scene_steps<K: LoadsSink>(avx2: bool) -> [PairStep<K>; 6] {
         pair_step_portable::<3, K>,
         pair_step_portable::<4, K>,
         pair_step_portable::<5, K>,
+        pair_step_portable::<6, K>,
+        pair_step_portable::<7, K>,
     ]
 }
 
@@ -1091,10 +1095,13 @@ mod tests {
         energy.track_energy = true;
         let mut marshall = full;
         marshall.twisting.law = TwistingLaw::Marshall;
-        let models = vec![full, exact, energy, marshall];
+        let mut roll_twist = full;
+        roll_twist.sliding.law = SlidingLaw::None;
+        let models = vec![full, exact, energy, marshall, roll_twist];
         let scenes: Vec<Scene> = models.iter().map(Scene::classify).collect();
         assert_eq!(scenes[..2], [Scene::FullLammps, Scene::FullExact]);
-        assert_eq!(scenes[2..], [Scene::Generic, Scene::Generic]);
+        assert_eq!(scenes[2..4], [Scene::Generic, Scene::Generic]);
+        assert_eq!(scenes[4], Scene::RollingTwistingLammps);
         models
     }
 
@@ -1324,7 +1331,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(accepted, 1200 * levels);
+        assert_eq!(accepted, models().len() * 300 * levels);
         // NaN and +-inf (3 of the 5 values) are refused everywhere but +inf in `mass2` and
         // `inertia2` (a fixed body 2); -1 in most fields makes up for those two.
         assert!(refused >= 41 * 3 * 4 * levels, "only {refused} refusals");

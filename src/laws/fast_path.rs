@@ -226,6 +226,8 @@ pub fn contact_step_pair_fast(
             Scene::SlidingExact => try_step_pair::<3>(model, body1, body2, input, state),
             Scene::SlidingRollingExact => try_step_pair::<4>(model, body1, body2, input, state),
             Scene::SlidingLammps => try_step_pair::<5>(model, body1, body2, input, state),
+            Scene::RollingTwistingLammps => try_step_pair::<6>(model, body1, body2, input, state),
+            Scene::RollingTwistingExact => try_step_pair::<7>(model, body1, body2, input, state),
         };
         if let Some((out, next)) = fast {
             *state = next;

@@ -38,12 +38,18 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     let mut sliding_lammps = lammps;
     sliding_lammps.rolling.law = RollingLaw::None;
     sliding_lammps.twisting.law = TwistingLaw::None;
+    let mut roll_twist_lammps = lammps;
+    roll_twist_lammps.sliding.law = SlidingLaw::None;
+    let mut roll_twist = full;
+    roll_twist.sliding.law = SlidingLaw::None;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
         (sliding, Scene::SlidingExact),
         (slide_roll, Scene::SlidingRollingExact),
         (sliding_lammps, Scene::SlidingLammps),
+        (roll_twist_lammps, Scene::RollingTwistingLammps),
+        (roll_twist, Scene::RollingTwistingExact),
     ]
 }
 

@@ -1,0 +1,684 @@
+//! The step kernel, staged through a block of contacts laid out by quantity.
+//!
+//! A batch step moves more data than it computes on: two bodies (20 doubles), a state (13) and
+//! `f_n` in, a state and three load vectors out, per contact. Packing these into SIMD lanes
+//! straight from the host's arrays (per-lane pointers, lane inserts and extracts woven through
+//! the physics) cost more instructions than the physics itself (measured: about 390 of 624
+//! instructions per contact, 4-lane AVX2, LAMMPS law set). So each block of [`BLOCK`] contacts
+//! goes through three simple loops:
+//!
+//! 1. **gather**: each contact's bodies, state and `f_n` are copied into a [`Block`], one row
+//!    per quantity (structure of arrays);
+//! 2. **step**: the generic physics runs over the block, `L::N` contacts at a time, with every
+//!    lane value one vector load from a row, and writes the new state and the loads back into
+//!    rows, with the lane-wise validity and slip masks;
+//! 3. **deliver**: each valid contact's state is written and its loads handed to the host
+//!    (added to the particles' accumulators, or written per contact); an invalid one is
+//!    skipped and reported.
+//!
+//! The physics, the validation and the rounding are those of the lane-by-lane kernel it
+//! replaces: the results are bitwise the same.
+
+use super::{
+    lane_bits, needs_normal_stiffness, scene, step_error, BatchReport, Lanes, PairLoads, StateSlot,
+    StepAccess, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
+};
+use crate::batch::{Scene, SphereSlot as _};
+use crate::decompose::Sphere;
+use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid, ContactGeometry};
+use crate::laws::model::Model;
+use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput};
+use crate::loads::ContactLoads;
+use crate::scalar::{finite_probe as probe, zero_if_finite as zf, Vec3};
+use simba::simd::SimdBool;
+
+/// Contacts per block: a multiple of every lane count, and small enough that a block's rows
+/// (about 11 KB) stay in the L1 cache.
+pub(crate) const BLOCK: usize = 32;
+
+// Every lane count divides the block, and the per-block masks (`u64`) have a bit per contact.
+const _: () = assert!(BLOCK % super::MAX_LANES == 0 && BLOCK <= 64);
+
+/// One quantity for every contact of a block.
+type Row = [f64; BLOCK];
+
+/// The rows of a 3-vector quantity.
+type Rows3 = [Row; 3];
+
+/// One block of contacts, a row per quantity (inputs, then the results of the step). Aligned
+/// to a cache line, and every row a whole number of lines, so that no lane load or store of
+/// up to 64 bytes straddles two lines (an unaligned block measured the AVX-512 kernel 1.4x
+/// slower: 43 against 30 ns per contact in cache).
+struct Block {
+    position1: Rows3,
+    position2: Rows3,
+    velocity1: Rows3,
+    velocity2: Rows3,
+    angular1: Rows3,
+    angular2: Rows3,
+    radius1: Row,
+    radius2: Row,
+    normal_force: Row,
+    normal_stiffness: Row,
+    /// The state in the order of [`ContactState`]: sliding spring (3), rolling spring (3),
+    /// twisting angle, twisting off-axis part (3), previous normal (3). The step writes the
+    /// new state over it.
+    state: [Row; 13],
+    /// Force on body 1 (3), torque on body 1 (3), torque on body 2 (3).
+    loads: [Row; 9],
+    /// `SLIP_*` bits per contact.
+    slip: [u32; BLOCK],
+    /// Bit `i`: contact `i`'s particle indices were in range.
+    index_ok: u64,
+    /// Bit `i`: contact `i` was stepped (valid inputs, finite results).
+    valid: u64,
+}
+
+impl Block {
+    fn new() -> Block {
+        let rows3 = [[0.0; BLOCK]; 3];
+        Block {
+            position1: rows3,
+            position2: rows3,
+            velocity1: rows3,
+            velocity2: rows3,
+            angular1: rows3,
+            angular2: rows3,
+            radius1: [0.0; BLOCK],
+            radius2: [0.0; BLOCK],
+            normal_force: [0.0; BLOCK],
+            normal_stiffness: [1.0; BLOCK],
+            state: [[0.0; BLOCK]; 13],
+            loads: [[0.0; BLOCK]; 9],
+            slip: [0; BLOCK],
+            index_ok: 0,
+            valid: 0,
+        }
+    }
+}
+
+#[inline(always)]
+fn put3(rows: &mut Rows3, i: usize, v: &Vec3<f64>) {
+    rows[0][i] = v.x;
+    rows[1][i] = v.y;
+    rows[2][i] = v.z;
+}
+
+#[inline(always)]
+fn load3<L: Lanes>(rows: &Rows3, at: usize) -> Vec3<L> {
+    Vec3::new(
+        L::load(&rows[0][at..]),
+        L::load(&rows[1][at..]),
+        L::load(&rows[2][at..]),
+    )
+}
+
+#[inline(always)]
+fn store3<L: Lanes>(rows: &mut Rows3, at: usize, v: &Vec3<L>) {
+    v.x.store(&mut rows[0][at..]);
+    v.y.store(&mut rows[1][at..]);
+    v.z.store(&mut rows[2][at..]);
+}
+
+/// The three rows of `block.state` from `first`.
+#[inline(always)]
+fn state3(state: &mut [Row; 13], first: usize) -> &mut Rows3 {
+    let rows: &mut [Row] = &mut state[first..first + 3];
+    rows.try_into().expect("three rows")
+}
+
+/// Copies contacts `c0..c0 + count` into the block's rows (slots `0..count`), and pads the
+/// slots up to a multiple of `L::N` with the last contact (their results are dropped).
+#[inline(always)]
+fn gather<L: Lanes, A: StepAccess>(
+    access: &A,
+    c0: usize,
+    count: usize,
+    needs_kn: bool,
+    b: &mut Block,
+) {
+    let padded = count.div_ceil(L::N) * L::N;
+    b.index_ok = 0;
+    for i in 0..padded {
+        let c = c0 + i.min(count - 1);
+        access.touch(c + TOUCH_AHEAD);
+        let (one, two, ok) = access.body_refs(c);
+        let (one, two): (Sphere<f64>, Sphere<f64>) = (one.sphere(), two.sphere());
+        b.index_ok |= (ok as u64) << i;
+        put3(&mut b.position1, i, &one.position);
+        put3(&mut b.position2, i, &two.position);
+        put3(&mut b.velocity1, i, &one.velocity);
+        put3(&mut b.velocity2, i, &two.velocity);
+        put3(&mut b.angular1, i, &one.angular_velocity);
+        put3(&mut b.angular2, i, &two.angular_velocity);
+        b.radius1[i] = one.radius;
+        b.radius2[i] = two.radius;
+        b.normal_force[i] = access.normal_force(c);
+        if needs_kn {
+            b.normal_stiffness[i] = access.normal_stiffness(c);
+        }
+        let s = access.state_ref(c).load();
+        put3(state3(&mut b.state, 0), i, &s.sliding_spring);
+        put3(state3(&mut b.state, 3), i, &s.rolling_spring);
+        b.state[6][i] = s.twisting_angle;
+        put3(state3(&mut b.state, 7), i, &s.twisting_offaxis);
+        put3(state3(&mut b.state, 10), i, &s.previous_normal);
+    }
+}
+
+/// The geometry in the lane type (rounded to `f32` for the mixed-precision kernels).
+#[inline(always)]
+fn geometry_in<L: Lanes>(g: &ContactGeometry<L::Geo>) -> ContactGeometry<L> {
+    let conv = |x: L::Geo| L::from_geo(x, x);
+    let conv3 = |v: &Vec3<L::Geo>| Vec3::new(conv(v.x), conv(v.y), conv(v.z));
+    ContactGeometry {
+        normal: conv3(&g.normal),
+        distance: conv(g.distance),
+        overlap: conv(g.overlap),
+        branch1: conv(g.branch1),
+        branch2: conv(g.branch2),
+        rolling_radius: conv(g.rolling_radius),
+        contact_point: conv3(&g.contact_point),
+        branch_rate_factor: conv(g.branch_rate_factor),
+    }
+}
+
+/// Centres and radii of `N` contacts' two bodies, in `f64` lanes.
+type Centres<G> = (Vec3<G>, Vec3<G>, G, G);
+
+/// Where [`step_inputs`] reads the inputs of its `L::N` contacts, one per lane. Each group is
+/// read where the step first needs it (positions, then motion and forces, then the state):
+/// loading everything first kept too many vectors live (the AVX-512 kernel ran 1.35x slower).
+trait LaneSource<L: Lanes> {
+    /// Centres and radii in `f64` lanes, for the geometry.
+    fn geometry(&self) -> Centres<L::Geo>;
+    /// The two bodies' motion (positions left at zero: the rates read the geometry).
+    fn bodies(&self) -> (Sphere<L>, Sphere<L>);
+    /// `f_n`, and `k_n` when `needs_kn` (else 1).
+    fn forces(&self, needs_kn: bool) -> (L, L);
+    /// The contacts' state.
+    fn state(&self) -> ContactState<L>;
+}
+
+/// Slots `at..at + L::N` of a block.
+struct RowsAt<'a> {
+    block: &'a Block,
+    at: usize,
+}
+
+impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
+    #[inline(always)]
+    fn geometry(&self) -> Centres<L::Geo> {
+        let (b, at) = (self.block, self.at);
+        (
+            load3::<L::Geo>(&b.position1, at),
+            load3::<L::Geo>(&b.position2, at),
+            L::Geo::load(&b.radius1[at..]),
+            L::Geo::load(&b.radius2[at..]),
+        )
+    }
+    #[inline(always)]
+    fn bodies(&self) -> (Sphere<L>, Sphere<L>) {
+        let (b, at) = (self.block, self.at);
+        (
+            moving(
+                load3(&b.velocity1, at),
+                load3(&b.angular1, at),
+                L::load(&b.radius1[at..]),
+            ),
+            moving(
+                load3(&b.velocity2, at),
+                load3(&b.angular2, at),
+                L::load(&b.radius2[at..]),
+            ),
+        )
+    }
+    #[inline(always)]
+    fn forces(&self, needs_kn: bool) -> (L, L) {
+        let (b, at) = (self.block, self.at);
+        let k_n = if needs_kn {
+            L::load(&b.normal_stiffness[at..])
+        } else {
+            L::one()
+        };
+        (L::load(&b.normal_force[at..]), k_n)
+    }
+    #[inline(always)]
+    fn state(&self) -> ContactState<L> {
+        let (st, at) = (&self.block.state, self.at);
+        let rows3 = |first: usize| -> &Rows3 {
+            let rows: &[Row] = &st[first..first + 3];
+            rows.try_into().expect("three rows")
+        };
+        ContactState {
+            sliding_spring: load3(rows3(0), at),
+            rolling_spring: load3(rows3(3), at),
+            twisting_angle: L::load(&st[6][at..]),
+            twisting_offaxis: load3(rows3(7), at),
+            previous_normal: load3(rows3(10), at),
+        }
+    }
+}
+
+/// One contact read straight from the host's structs (one-lane types).
+struct Single {
+    body1: Sphere<f64>,
+    body2: Sphere<f64>,
+    normal_force: f64,
+    normal_stiffness: f64,
+    state: ContactState<f64>,
+}
+
+/// `v` in every lane.
+#[inline(always)]
+fn splat3<T: Lanes>(v: &Vec3<f64>) -> Vec3<T> {
+    Vec3::new(
+        T::from_fn(|_| v.x),
+        T::from_fn(|_| v.y),
+        T::from_fn(|_| v.z),
+    )
+}
+
+impl<L: Lanes> LaneSource<L> for Single {
+    #[inline(always)]
+    fn geometry(&self) -> Centres<L::Geo> {
+        let (one, two) = (&self.body1, &self.body2);
+        (
+            splat3(&one.position),
+            splat3(&two.position),
+            L::Geo::from_fn(|_| one.radius),
+            L::Geo::from_fn(|_| two.radius),
+        )
+    }
+    #[inline(always)]
+    fn bodies(&self) -> (Sphere<L>, Sphere<L>) {
+        let body = |b: &Sphere<f64>| {
+            moving(
+                splat3(&b.velocity),
+                splat3(&b.angular_velocity),
+                L::from_fn(|_| b.radius),
+            )
+        };
+        (body(&self.body1), body(&self.body2))
+    }
+    #[inline(always)]
+    fn forces(&self, needs_kn: bool) -> (L, L) {
+        let k_n = if needs_kn {
+            L::from_fn(|_| self.normal_stiffness)
+        } else {
+            L::one()
+        };
+        (L::from_fn(|_| self.normal_force), k_n)
+    }
+    #[inline(always)]
+    fn state(&self) -> ContactState<L> {
+        let s = &self.state;
+        ContactState {
+            sliding_spring: splat3(&s.sliding_spring),
+            rolling_spring: splat3(&s.rolling_spring),
+            twisting_angle: L::from_fn(|_| s.twisting_angle),
+            twisting_offaxis: splat3(&s.twisting_offaxis),
+            previous_normal: splat3(&s.previous_normal),
+        }
+    }
+}
+
+/// What [`step_inputs`] returns: the new state and the loads per lane, the lanes that were
+/// stepped (valid inputs, finite results: bit `k` for lane `k`) and the slip masks.
+struct LaneResults<L: Lanes> {
+    state: ContactState<L>,
+    force1: Vec3<L>,
+    torque1: Vec3<L>,
+    torque2: Vec3<L>,
+    valid: u64,
+    slips: [u64; 3],
+}
+
+/// The lanes whose inputs the per-contact checked step accepts, as far as the geometry does not
+/// show it: finite motion, state and `f_n`, `f_n >= 0`, and a finite `k_n > 0` when the model
+/// reads it.
+#[inline(always)]
+fn inputs_ok<L: Lanes>(
+    body1: &Sphere<L>,
+    body2: &Sphere<L>,
+    force: L,
+    stiffness: L,
+    needs_kn: bool,
+    state: &ContactState<L>,
+) -> L::SimdBool {
+    let zero = L::zero();
+    let mut acc = zf(force) + zf(state.twisting_angle);
+    for v in [
+        &body1.velocity,
+        &body2.velocity,
+        &body1.angular_velocity,
+        &body2.angular_velocity,
+        &state.sliding_spring,
+        &state.rolling_spring,
+        &state.twisting_offaxis,
+        &state.previous_normal,
+    ] {
+        acc = probe(acc, v);
+    }
+    let mut ok = acc.simd_eq(zero) & force.simd_ge(zero);
+    if needs_kn {
+        ok = ok & stiffness.simd_gt(zero) & zf(stiffness).simd_eq(zero);
+    }
+    ok
+}
+
+/// The lanes whose loads and new state are finite.
+#[inline(always)]
+fn results_ok<L: Lanes>(loads: &ContactLoads<L>, state: &ContactState<L>) -> L::SimdBool {
+    let mut acc = zf(state.twisting_angle);
+    for v in [
+        &loads.force1,
+        &loads.torque1,
+        &loads.torque2,
+        &state.sliding_spring,
+        &state.rolling_spring,
+        &state.twisting_offaxis,
+    ] {
+        acc = probe(acc, v);
+    }
+    acc.simd_eq(L::zero())
+}
+
+/// The step input of `L::N` contacts.
+#[inline(always)]
+fn step_input<L: Lanes>(force: L, stiffness: L, dt: f64) -> StepInput<L> {
+    let mut input = StepInput::new(force, L::from_fn(|_| dt));
+    input.normal_stiffness = stiffness;
+    input
+}
+
+/// One step of `L::N` contacts: the validation of the per-contact checked step (finite inputs,
+/// radii > 0, `d >= eps (R1 + R2)`, a unit normal, `l1, l2 > 0`, `f_n >= 0`, `k_n > 0` when the
+/// model reads it, finite results), lane-wise, and the generic physics.
+#[inline(always)]
+fn step_inputs<L: Lanes>(
+    model: &Model,
+    dt: f64,
+    needs_kn: bool,
+    source: &impl LaneSource<L>,
+) -> LaneResults<L> {
+    debug_assert_eq!(
+        <L::Geo as Lanes>::N,
+        L::N,
+        "the geometry has the lanes of the step"
+    );
+    let (p1, p2, r1, r2) = source.geometry();
+    let g = pair_geometry_unchecked(&p1, &p2, r1, r2, model.geometry);
+    let geometry_ok = pair_geometry_valid(&p1, &p2, r1, r2, &g).bitmask();
+    let (body1, body2) = source.bodies();
+    let (force, stiffness) = source.forces(needs_kn);
+    let mut state = source.state();
+    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, &state);
+    let out = contact_step_with_geometry(
+        model,
+        geometry_in::<L>(&g),
+        &body1,
+        Partner::Sphere(&body2),
+        &step_input(force, stiffness, dt),
+        &mut state,
+    );
+    let l = out.loads;
+    let results_ok = results_ok(&l, &state);
+    LaneResults {
+        state,
+        force1: l.force1,
+        torque1: l.torque1,
+        torque2: l.torque2,
+        valid: geometry_ok & (inputs_ok & results_ok).bitmask() & lane_bits(L::N),
+        slips: [
+            out.slipped[0].bitmask(),
+            out.slipped[1].bitmask(),
+            out.slipped[2].bitmask(),
+        ],
+    }
+}
+
+/// The `SLIP_*` bits of lane `k`.
+#[inline(always)]
+fn slip_bits(slips: &[u64; 3], k: usize) -> u32 {
+    let bit = |mask: u64, flag: u32| ((mask >> k) & 1) as u32 * flag;
+    bit(slips[0], SLIP_SLIDING) | bit(slips[1], SLIP_ROLLING) | bit(slips[2], SLIP_TWISTING)
+}
+
+/// A body in lanes, its position left at zero (the rates and the laws read the geometry).
+#[inline(always)]
+fn moving<L: Lanes>(velocity: Vec3<L>, angular_velocity: Vec3<L>, radius: L) -> Sphere<L> {
+    Sphere {
+        position: Vec3::zeros(),
+        velocity,
+        angular_velocity,
+        radius,
+    }
+}
+
+/// Steps slots `at..at + L::N` of the block ([`step_inputs`]), each lane value one load from a
+/// row; writes the new state and the loads back into the rows and records the slots' validity
+/// and slip bits.
+#[inline(always)]
+fn step_lanes<L: Lanes>(model: &Model, dt: f64, needs_kn: bool, at: usize, b: &mut Block) {
+    let src = RowsAt { block: b, at };
+    let (p1, p2, r1, r2) = LaneSource::<L>::geometry(&src);
+    let g = pair_geometry_unchecked(&p1, &p2, r1, r2, model.geometry);
+    let geometry_ok = pair_geometry_valid(&p1, &p2, r1, r2, &g).bitmask();
+    let (body1, body2) = LaneSource::<L>::bodies(&src);
+    let (force, stiffness) = LaneSource::<L>::forces(&src, needs_kn);
+    let mut state = LaneSource::<L>::state(&src);
+    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, &state);
+    let out = contact_step_with_geometry(
+        model,
+        geometry_in::<L>(&g),
+        &body1,
+        Partner::Sphere(&body2),
+        &step_input(force, stiffness, dt),
+        &mut state,
+    );
+    let l = &out.loads;
+    let valid = geometry_ok & (inputs_ok & results_ok(l, &state)).bitmask();
+    b.valid |= (valid & lane_bits(L::N)) << at;
+    store3(state3(&mut b.state, 0), at, &state.sliding_spring);
+    store3(state3(&mut b.state, 3), at, &state.rolling_spring);
+    state.twisting_angle.store(&mut b.state[6][at..]);
+    store3(state3(&mut b.state, 7), at, &state.twisting_offaxis);
+    store3(state3(&mut b.state, 10), at, &state.previous_normal);
+    let loads: &mut [Row; 9] = &mut b.loads;
+    let (force1, rest) = loads.split_at_mut(3);
+    let (torque1, torque2) = rest.split_at_mut(3);
+    for (rows, v) in [
+        (force1, &l.force1),
+        (torque1, &l.torque1),
+        (torque2, &l.torque2),
+    ] {
+        let rows: &mut Rows3 = rows.try_into().expect("three rows");
+        store3(rows, at, v);
+    }
+    let slips = [
+        out.slipped[0].bitmask(),
+        out.slipped[1].bitmask(),
+        out.slipped[2].bitmask(),
+    ];
+    for k in 0..L::N {
+        b.slip[at + k] = slip_bits(&slips, k);
+    }
+}
+
+/// Steps contact `c` on its own (one-lane types: staging through rows would only add copies),
+/// reading the host's structs and delivering as [`deliver`] does.
+#[inline(always)]
+fn step_one<L: Lanes, A: StepAccess>(
+    access: &mut A,
+    model: &Model,
+    dt: f64,
+    needs_kn: bool,
+    c: usize,
+    report: &mut BatchReport,
+) {
+    access.touch(c + TOUCH_AHEAD);
+    let (one, two, index_ok) = access.body_refs(c);
+    let (one, two): (Sphere<f64>, Sphere<f64>) = (one.sphere(), two.sphere());
+    let single = Single {
+        body1: one,
+        body2: two,
+        normal_force: access.normal_force(c),
+        normal_stiffness: if needs_kn {
+            access.normal_stiffness(c)
+        } else {
+            1.0
+        },
+        state: access.state_ref(c).load(),
+    };
+    let r = step_inputs::<L>(model, dt, needs_kn, &single);
+    if index_ok && r.valid & 1 == 1 {
+        let f64s = |v: &Vec3<L>| Vec3::new(v.x.lane(0), v.y.lane(0), v.z.lane(0));
+        let arr = |v: &Vec3<L>| [v.x.lane(0), v.y.lane(0), v.z.lane(0)];
+        let new = ContactState {
+            sliding_spring: f64s(&r.state.sliding_spring),
+            rolling_spring: f64s(&r.state.rolling_spring),
+            twisting_angle: r.state.twisting_angle.lane(0),
+            twisting_offaxis: f64s(&r.state.twisting_offaxis),
+            previous_normal: f64s(&r.state.previous_normal),
+        };
+        access.state(c).store(&new, slip_bits(&r.slips, 0));
+        access.emit(
+            c,
+            &PairLoads {
+                force1: arr(&r.force1),
+                torque1: arr(&r.torque1),
+                torque2: arr(&r.torque2),
+            },
+        );
+        report.processed += 1;
+    } else {
+        refuse(access, model, dt, needs_kn, c, report);
+    }
+}
+
+/// Reports contact `c` as skipped, with the error the per-contact checked step gives for it.
+#[cold]
+fn refuse<A: StepAccess>(
+    access: &A,
+    model: &Model,
+    dt: f64,
+    needs_kn: bool,
+    c: usize,
+    report: &mut BatchReport,
+) {
+    report.fail(c, || {
+        step_error(
+            model,
+            dt,
+            access.bodies(c),
+            access.normal_force(c),
+            if needs_kn {
+                access.normal_stiffness(c)
+            } else {
+                1.0
+            },
+            &access.state_ref(c).load(),
+        )
+    });
+}
+
+/// Writes the state and hands over the loads of every valid contact of the block (slots
+/// `0..count`, contacts `c0..`); reports the others.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn deliver<A: StepAccess>(
+    access: &mut A,
+    model: &Model,
+    dt: f64,
+    needs_kn: bool,
+    c0: usize,
+    count: usize,
+    b: &Block,
+    report: &mut BatchReport,
+) {
+    let ok = b.valid & b.index_ok & lane_bits(count);
+    for i in 0..count {
+        let c = c0 + i;
+        if ok >> i & 1 == 1 {
+            let st = &b.state;
+            let s = ContactState {
+                sliding_spring: Vec3::new(st[0][i], st[1][i], st[2][i]),
+                rolling_spring: Vec3::new(st[3][i], st[4][i], st[5][i]),
+                twisting_angle: st[6][i],
+                twisting_offaxis: Vec3::new(st[7][i], st[8][i], st[9][i]),
+                previous_normal: Vec3::new(st[10][i], st[11][i], st[12][i]),
+            };
+            access.state(c).store(&s, b.slip[i]);
+            let l = &b.loads;
+            access.emit(
+                c,
+                &PairLoads {
+                    force1: [l[0][i], l[1][i], l[2][i]],
+                    torque1: [l[3][i], l[4][i], l[5][i]],
+                    torque2: [l[6][i], l[7][i], l[8][i]],
+                },
+            );
+            report.processed += 1;
+        } else {
+            refuse(access, model, dt, needs_kn, c, report);
+        }
+    }
+}
+
+/// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:
+/// [`super::check_batch_model`], [`super::check_time_step`]). `L` is the lane type, `S` the
+/// [`Scene`] code (its constants must match `model`: use [`Scene::classify`], or 0).
+#[inline(always)]
+pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess>(
+    model: &Model,
+    dt: f64,
+    access: &mut A,
+) -> BatchReport {
+    let model = scene::fold(Scene::from_code(S), model);
+    let needs_kn = needs_normal_stiffness(&model);
+    let n = access.len();
+    let mut report = BatchReport::default();
+    if super::refuse_ungatherable(&*access, n, &mut report) {
+        return report;
+    }
+    if L::N == 1 {
+        for c in 0..n {
+            step_one::<L, A>(access, &model, dt, needs_kn, c, &mut report);
+        }
+        return report;
+    }
+    let mut block = Block::new();
+    let mut c0 = 0;
+    while c0 < n {
+        let count = (n - c0).min(BLOCK);
+        gather::<L, A>(&*access, c0, count, needs_kn, &mut block);
+        block.valid = 0;
+        let mut at = 0;
+        while at < count {
+            step_lanes::<L>(&model, dt, needs_kn, at, &mut block);
+            at += L::N;
+        }
+        deliver(access, &model, dt, needs_kn, c0, count, &block, &mut report);
+        c0 += count;
+    }
+    report
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn get3(rows: &Rows3, i: usize) -> Vec3<f64> {
+        Vec3::new(rows[0][i], rows[1][i], rows[2][i])
+    }
+
+    #[test]
+    fn rows_round_trip_a_vector() {
+        let mut rows = [[0.0; BLOCK]; 3];
+        let v = Vec3::new(1.0, -2.0, 3.5);
+        put3(&mut rows, BLOCK - 1, &v);
+        assert_eq!(get3(&rows, BLOCK - 1), v);
+        assert_eq!(get3(&rows, 0), Vec3::zeros());
+    }
+}
