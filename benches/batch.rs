@@ -1,16 +1,31 @@
-//! `cargo bench --bench batch`: run time of the batch kernels against a hand-written C
-//! baseline, the per-contact C call and the memory floor, on 1,000,000 contacts (out of cache)
-//! and 2,000 contacts (in cache).
+//! `cargo bench --bench batch`: run time of the batch kernels against hand-written C baselines,
+//! the per-contact C calls and the memory floor, for three physics sets (full, rolltwist,
+//! sliding), on two workloads, out of cache (1,200,000 contacts) and in cache (2,000 contacts).
+//!
+//! Workload A (the headline): a jittered FCC packing whose particles are spatially sorted as a
+//! DEM code keeps them (LAMMPS' atom sort: lexicographic order of small spatial bins), contacts
+//! in half-neighbour-list order. Workload B: a cubic packing with randomly permuted particle
+//! ids (body 2 of each contact is a random memory access). `bench/bench.c` describes both, the
+//! histories, the baselines and every row.
 //!
 //! The driver `bench/bench.c` is compiled here with the `cc` crate's compiler at
 //! `-O3 -march=native` and linked against the `librollslide.a` that cargo built for this bench
-//! (release profile); it is run 3 times per size and the table reports the median of the 3
-//! runs (each run's number is the minimum over several timed calls, each call starting from
-//! the same states). Arguments after `--`: `--quick` (one run, smaller sizes) for a smoke test.
+//! (release profile). For each size it runs 5 times per workload (A and B alternating); each
+//! run's number for a row is the fastest of several timed calls (4 out of cache, 7 in cache),
+//! each call starting from the same states. Every ratio (row / baseline of the same physics
+//! set, row / memory floor) is computed within one run, and the table reports the median over
+//! the runs of the times and of the ratios. Arguments after `--`: `--quick` (one run, 100,000
+//! and 2,000 contacts, 3 calls per row) for a smoke test; `--slip=F` (passed to the driver: the
+//! fraction of contacts that start beyond each law's limit, default 0.25; the scalar baselines'
+//! clip branches are mispredicted in proportion, which the `[noslip]` rows, measured on the same
+//! histories with every spring below its limit, bracket). A full run takes about 4.5 minutes of
+//! driver time on a 2-core machine (5 calls per row out of cache took 5 minutes). The table is
+//! printed and written to `target/<profile>/bench_table.md` (`target/release/bench_table.md`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Instant;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -48,6 +63,8 @@ fn build_driver() -> PathBuf {
         "-march=native",
         "-std=c11",
         "-D_POSIX_C_SOURCE=199309L",
+        "-Wall",
+        "-Wextra",
     ])
     .arg("-I")
     .arg(root().join("include"))
@@ -69,29 +86,68 @@ fn build_driver() -> PathBuf {
     out
 }
 
-fn run(exe: &Path, contacts: usize, reps: usize) -> (String, BTreeMap<String, (f64, String)>) {
+/// One output row of the driver: `row GROUP NAME NS LOADS_DIFF STATE_DIFF FLAGS`.
+#[derive(Clone, Debug)]
+struct Row {
+    group: String,
+    name: String,
+    ns: f64,
+    loads: String,
+    state: String,
+    flags: String,
+}
+
+/// One run of the driver: its `info` lines and its rows in output order.
+struct Run {
+    info: Vec<String>,
+    rows: Vec<Row>,
+}
+
+impl Run {
+    fn ns(&self, group: &str, name: &str) -> Option<f64> {
+        self.rows
+            .iter()
+            .find(|r| r.group == group && r.name == name)
+            .map(|r| r.ns)
+    }
+}
+
+fn run(exe: &Path, workload: char, contacts: usize, reps: usize, extra: &[String]) -> Run {
     let out = Command::new(exe)
         .arg(contacts.to_string())
         .arg(reps.to_string())
+        .arg(format!("--workload={workload}"))
+        .args(extra)
         .output()
         .expect("running the bench driver");
     assert!(
         out.status.success(),
-        "{}",
+        "bench driver (workload {workload}, {contacts} contacts) failed:\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
     let text = String::from_utf8_lossy(&out.stdout).to_string();
-    let mut rows = BTreeMap::new();
-    let mut header = String::new();
+    let mut info = Vec::new();
+    let mut rows = Vec::new();
     for line in text.lines() {
-        let f: Vec<&str> = line.split_whitespace().collect();
-        if f[0] == "contacts" {
-            header = line.to_string();
+        if let Some(rest) = line.strip_prefix("info ") {
+            info.push(rest.to_string());
             continue;
         }
-        rows.insert(f[0].to_string(), (f[1].parse().unwrap(), f[2].to_string()));
+        let f: Vec<&str> = line.split_whitespace().collect();
+        assert!(
+            f.len() == 7 && f[0] == "row",
+            "unexpected driver output: {line}"
+        );
+        rows.push(Row {
+            group: f[1].to_string(),
+            name: f[2].to_string(),
+            ns: f[3].parse().expect("ns per contact"),
+            loads: f[4].to_string(),
+            state: f[5].to_string(),
+            flags: f[6].to_string(),
+        });
     }
-    (header, rows)
+    Run { info, rows }
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -99,78 +155,271 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Median over the runs of `row / reference of the same run`.
+fn median_ratio(runs: &[Run], group: &str, name: &str, reference: &str) -> f64 {
+    median(
+        runs.iter()
+            .map(|r| r.ns(group, name).unwrap() / r.ns(group, reference).unwrap())
+            .collect(),
+    )
+}
+
+/// Suffix of the rows measured on the no-slip histories (compared with `baseline_c[noslip]`).
+const NOSLIP: &str = "[noslip]";
+
+/// The baseline a row is divided by: the one measured on the same histories.
+fn reference(name: &str) -> &'static str {
+    if name.ends_with(NOSLIP) {
+        "baseline_c[noslip]"
+    } else {
+        "baseline_c"
+    }
+}
+
+/// The physics a row computes: its group's set, or what differs (marked with a dagger).
+fn physics(row: &Row) -> String {
+    if row.name.ends_with(NOSLIP) {
+        return format!("{}, no contact at a limit", row.group);
+    }
+    if let Some(start) = row.name.find('[') {
+        let scene = row.name[start + 1..].trim_end_matches(']');
+        if row.loads == "-" {
+            return format!("{scene} †");
+        }
+        return format!("{} ({scene})", row.group);
+    }
+    if row.name.starts_with("decompose") {
+        return "decomposition only †".to_string();
+    }
+    row.group.clone()
+}
+
+/// The SIMD level `RSL_SIMD_AUTO` ran for a precision (the suffix of the contact-major row).
+fn auto_level(run: &Run, group: &str, precision: &str) -> Option<String> {
+    let prefix = format!("contacts_{precision}_");
+    run.rows
+        .iter()
+        .find(|r| r.group == group && r.name.starts_with(&prefix))
+        .map(|r| r.name[prefix.len()..].to_string())
+}
+
+fn table(runs: &[Run], workload: char, contacts: usize) -> String {
+    let mut md = format!(
+        "\n### Workload {workload}, {contacts} contacts (median of {} runs)\n\n",
+        runs.len()
+    );
+    for line in &runs[0].info {
+        md += &format!("- {line}\n");
+    }
+    md += "\n| row | physics | ns/contact | / baseline | / floor | max rel. diff, loads \
+           | max rel. diff, state |\n|---|---|---:|---:|---:|---:|---:|\n";
+    for row in &runs[0].rows {
+        let (g, n) = (row.group.as_str(), row.name.as_str());
+        let ns = median(runs.iter().map(|r| r.ns(g, n).unwrap()).collect());
+        let flags = if row.flags == "0" || row.flags == "-" {
+            String::new()
+        } else {
+            format!(" ({} slip flags differ)", row.flags)
+        };
+        md += &format!(
+            "| {n} | {} | {ns:.2} | {:.2} | {:.2} | {} | {}{flags} |\n",
+            physics(row),
+            median_ratio(runs, g, n, reference(n)),
+            median_ratio(runs, g, n, "floor"),
+            row.loads,
+            row.state,
+        );
+    }
+    md
+}
+
+fn cpu_info() -> (String, String) {
+    let text = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let field = |key: &str| {
+        text.lines()
+            .find(|l| l.starts_with(key))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|v| v.trim().to_string())
+            .unwrap_or_default()
+    };
+    let model = field("model name");
+    let flags = field("flags");
+    let have: Vec<String> = ["avx2", "fma", "avx512f"]
+        .iter()
+        .map(|f| {
+            let yes = flags.split_whitespace().any(|x| x == *f);
+            format!("{f} {}", if yes { "yes" } else { "no" })
+        })
+        .collect();
+    (model, have.join(", "))
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .unwrap_or_default()
+        .split_whitespace()
+        .take(3)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
+    // `--slip=F` is passed to the driver (fraction of contacts beyond each law's limit).
+    let extra: Vec<String> = std::env::args()
+        .filter(|a| a.starts_with("--slip="))
+        .collect();
     let exe = build_driver();
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap().trim().to_string())
-        })
-        .unwrap_or_default();
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    println!("CPU: {cpu}; load average at start: {}", load.trim());
+    let (cpu, simd) = cpu_info();
+    let load_start = load_average();
+    println!("CPU: {cpu}; {simd}; load average (1, 5, 15 min) at start: {load_start}");
     let sizes: &[(usize, usize)] = if quick {
         &[(100_000, 3), (2_000, 3)]
     } else {
-        &[(1_000_000, 5), (2_000, 15)]
+        // 4 calls per row out of cache (not 5) keeps a full run near 4 minutes on 2 cores
+        &[(1_200_000, 4), (2_000, 7)]
     };
-    let runs = if quick { 1 } else { 3 };
-    let mut md = String::new();
+    let runs = if quick { 1 } else { 5 };
+    let workloads = ['A', 'B'];
+    let started = Instant::now();
+    let mut results: BTreeMap<(char, usize), Vec<Run>> = BTreeMap::new();
     for &(n, reps) in sizes {
-        let mut all: Vec<BTreeMap<String, (f64, String)>> = Vec::new();
-        let mut header = String::new();
-        for _ in 0..runs {
-            let (h, rows) = run(&exe, n, reps);
-            header = h;
-            all.push(rows);
+        for r in 0..runs {
+            for &w in &workloads {
+                eprintln!(
+                    "[{:6.1} s] workload {w}, {n} contacts, run {}/{runs}",
+                    started.elapsed().as_secs_f64(),
+                    r + 1
+                );
+                results
+                    .entry((w, n))
+                    .or_default()
+                    .push(run(&exe, w, n, reps, &extra));
+            }
         }
-        let keys: Vec<String> = all[0].keys().cloned().collect();
-        let med: BTreeMap<String, f64> = keys
+    }
+    let elapsed = started.elapsed().as_secs_f64();
+    let load_end = load_average();
+
+    let title = format!(
+        "{}{}",
+        if quick { " (--quick smoke test)" } else { "" },
+        extra.iter().map(|a| format!(" ({a})")).collect::<String>()
+    );
+    let mut md = format!(
+        "## rollslide batch benchmark{}\n\nCPU: {cpu}; {simd}. Load average (1, 5, 15 min): \
+         {load_start} at the start, {load_end} at the end; driver runs took {elapsed:.0} s.\n\n\
+         Each run's number for a row is the fastest of several timed calls ({}); every ratio is \
+         taken within one run (row / the baseline of the same physics set, row / the floor \
+         measured with that set), then the median over {runs} run(s) is reported, as is the \
+         median of the times. Workload A: particles spatially sorted (LAMMPS atom sort), \
+         half neighbour list; workload B: particle ids randomly permuted. A random quarter of \
+         the contacts (driver option --slip) starts beyond each law's limit (the info lines give \
+         the fractions measured); the scalar baselines mispredict their clip branches on them. \
+         Rows marked [noslip] (\"no slip\" in the summary) run on the same histories with every \
+         spring below its limit (no clip taken: the baselines' best case) and are divided by \
+         the baseline on those histories. The rows are described \
+         at the top of `bench/bench.c`. † different physics from the group's baseline (ratio \
+         given for cost only). Diffs: max |difference| from the baseline relative to the \
+         largest baseline component (loads: per-particle forces and torques; state: springs, \
+         twisting angle, normal).\n",
+        title,
+        sizes
             .iter()
-            .map(|k| (k.clone(), median(all.iter().map(|r| r[k].0).collect())))
-            .collect();
-        let base = med["baseline_c"];
-        let floor = med["floor"];
-        md += &format!(
-            "\n{header} (median of {runs} runs)\n\n| kernel | ns/contact | / C baseline | / memory floor | max rel. diff vs baseline |\n|---|---:|---:|---:|---:|\n"
-        );
-        let mut order: Vec<&String> = keys.iter().collect();
-        let rank = |k: &str| -> usize {
-            [
-                "baseline_c",
-                "floor",
-                "percontact_c",
-                "percontact_acc_c",
-                "batch_f64",
-                "contacts_f64",
-                "batch_f32",
-                "contacts_f32",
-                "decompose",
-            ]
-            .iter()
-            .position(|p| k.starts_with(p))
-            .unwrap_or(99)
-        };
-        order.sort_by_key(|k| (rank(k), k.to_string()));
-        for k in order {
-            let t = med[k];
-            md += &format!(
-                "| {k} | {t:.2} | {:.2} | {:.2} | {} |\n",
-                t / base,
-                t / floor,
-                all[0][k].1
-            );
+            .map(|(n, reps)| format!("{reps} calls at {n} contacts"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+
+    // Summary: the main kernels against the baseline of the same physics set.
+    md += "\n### Summary: median of same-run ratios to the hand-written C baseline of the same \
+           physics\n\n| physics | kernel |";
+    let mut columns = Vec::new();
+    for &w in &workloads {
+        for &(n, _) in sizes {
+            md += &format!(" {w}, {n} |");
+            columns.push((w, n));
+        }
+    }
+    md += "\n|---|---|";
+    md += &"---:|".repeat(columns.len());
+    md += "\n";
+    for group in ["full", "rolltwist", "sliding"] {
+        let first = &results[&columns[0]][0];
+        let l64 = auto_level(first, group, "f64").unwrap_or_default();
+        let l32 = auto_level(first, group, "f32").unwrap_or_default();
+        let kernels = [
+            (
+                "baseline_c".to_string(),
+                "C baseline: ns/contact".to_string(),
+            ),
+            ("floor".to_string(), "memory floor".to_string()),
+            (
+                format!("batch_f64_{l64}"),
+                format!("batch f64 {l64} (auto)"),
+            ),
+            (
+                format!("batch_f32_{l32}"),
+                format!("batch f32 {l32} (auto)"),
+            ),
+            (
+                "percontact_acc_c".to_string(),
+                "rsl_contact_step_accumulate".to_string(),
+            ),
+            (
+                "percontact_c".to_string(),
+                "rsl_contact_step + host adds".to_string(),
+            ),
+            (
+                format!("baseline_c{NOSLIP}"),
+                "no slip: C baseline: ns/contact".to_string(),
+            ),
+            (
+                format!("batch_f64_{l64}{NOSLIP}"),
+                format!("no slip: batch f64 {l64} (auto)"),
+            ),
+            (
+                format!("batch_f32_{l32}{NOSLIP}"),
+                format!("no slip: batch f32 {l32} (auto)"),
+            ),
+            (
+                format!("percontact_acc_c{NOSLIP}"),
+                "no slip: rsl_contact_step_accumulate".to_string(),
+            ),
+        ];
+        for (name, label) in kernels {
+            md += &format!("| {group} | {label} |");
+            for key in &columns {
+                let rs = &results[key];
+                let cell = if rs[0].ns(group, &name).is_none() {
+                    "-".to_string()
+                } else if name.starts_with("baseline_c") {
+                    format!(
+                        "{:.1}",
+                        median(rs.iter().map(|r| r.ns(group, &name).unwrap()).collect())
+                    )
+                } else {
+                    format!("{:.2}", median_ratio(rs, group, &name, reference(&name)))
+                };
+                md += &format!(" {cell} |");
+            }
+            md += "\n";
+        }
+    }
+
+    for &w in &workloads {
+        for &(n, _) in sizes {
+            md += &table(&results[&(w, n)], w, n);
         }
     }
     println!("{md}");
+    // target/<profile>/bench_table.md (the bench binary is target/<profile>/deps/batch-*)
     let path = std::env::current_exe()
         .unwrap()
         .parent()
+        .and_then(Path::parent)
         .unwrap()
-        .join("../bench_table.md");
+        .join("bench_table.md");
     std::fs::write(&path, &md).unwrap();
     println!("table written to {}", path.display());
 }
