@@ -35,8 +35,8 @@
 // into the histories every step.
 #define RSL_PRECISION_F32 1
 
-// SIMD: the fastest level the CPU supports (double: AVX-512, then AVX2+FMA, then scalar;
-// single: AVX2+FMA, then scalar).
+// SIMD: the widest level the CPU supports, in both precisions: AVX-512, then AVX2+FMA, then
+// scalar.
 #define RSL_SIMD_AUTO 0
 
 // SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).

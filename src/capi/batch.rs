@@ -40,8 +40,8 @@ pub const RSL_PRECISION_F64: u32 = 0;
 /// into the histories every step.
 pub const RSL_PRECISION_F32: u32 = 1;
 
-/// SIMD: the fastest level the CPU supports (double: AVX-512, then AVX2+FMA, then scalar;
-/// single: AVX2+FMA, then scalar).
+/// SIMD: the widest level the CPU supports, in both precisions: AVX-512, then AVX2+FMA, then
+/// scalar.
 pub const RSL_SIMD_AUTO: u32 = 0;
 /// SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).
 pub const RSL_SIMD_SCALAR: u32 = 1;
