@@ -44,10 +44,10 @@
  * LAMMPS_2021 preset with the laws below; parameters KT..MUTW):
  *   full       linear-history sliding + rolling sds (EPSD, given k_r, gamma_r, mu_r) +
  *              twisting sds (library scene full/lammps)
- *   rolltwist  rolling sds + twisting sds, sliding law RSL_SLIDING_NONE (the committed library
- *              has no scene kernel for it and runs the generic one; the info line scene_kernel
- *              says which ran). Force on body 1 is -f_n n; torques only from rolling and
- *              twisting; the sliding spring is left as it was.
+ *   rolltwist  rolling sds + twisting sds, sliding law RSL_SLIDING_NONE (library scene
+ *              roll+twist/lammps; the info line scene_kernel says which ran). Force on body 1
+ *              is -f_n n; torques only from rolling and twisting; the sliding spring is left
+ *              as it was.
  *   sliding    linear-history sliding only (library scene sliding/lammps)
  *
  * Rows (one output line each: "row GROUP NAME NS_PER_CONTACT LOADS_DIFF STATE_DIFF FLAGS"). The

@@ -43,7 +43,7 @@ void test_batch_matches_per_contact_calls(void) {
     rsl_model *m = full_model();
     uint32_t scene_code = 99;
     CHECK_STATUS(rsl_batch_scene(m, &scene_code), RSL_OK);
-    CHECK(scene_code == 1);
+    CHECK(scene_code == RSL_SCENE_FULL_EXACT);
     const double dt = 1e-4;
     /* Reference: per-contact calls accumulated by hand. */
     rsl_vec3 fr[NP], tr[NP];
@@ -86,7 +86,7 @@ void test_batch_matches_per_contact_calls(void) {
             CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, dt, &o, s, f, t, &rep),
                          RSL_OK);
             CHECK(rep.processed == NC && rep.failed == 0 && rep.first_failed == RSL_BATCH_NONE);
-            CHECK(rep.simd == lv && rep.scene == 1);
+            CHECK(rep.simd == lv && rep.scene == RSL_SCENE_FULL_EXACT);
             /* double: identical (tolerance 0); single: 1e-5 of the load scale (f_n ~ 10). */
             double tol = prec ? 1e-4 : 0.0;
             for (int i = 0; i < NP; i++) {

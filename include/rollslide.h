@@ -56,6 +56,33 @@
 // Value of `rsl_batch_report.first_failed` when no contact failed.
 #define RSL_BATCH_NONE UINT64_MAX
 
+// Scene kernel (`rsl_batch_report.scene`, `rsl_batch_scene`): the generic kernel, which runs
+// any model the batch accepts (law decisions taken at run time).
+#define RSL_SCENE_GENERIC 0
+
+// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling (given
+// stiffness and damping, length form) + sds twisting, no energy bookkeeping.
+#define RSL_SCENE_FULL_EXACT 1
+
+// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting sds.
+#define RSL_SCENE_FULL_LAMMPS 2
+
+// Scene kernel: objective preset, exact transport, linear sliding only.
+#define RSL_SCENE_SLIDING_EXACT 3
+
+// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling.
+#define RSL_SCENE_SLIDING_ROLLING_EXACT 4
+
+// Scene kernel: LAMMPS_2021 preset, linear history sliding only.
+#define RSL_SCENE_SLIDING_LAMMPS 5
+
+// Scene kernel: LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
+#define RSL_SCENE_ROLLING_TWISTING_LAMMPS 6
+
+// Scene kernel: objective preset, exact transport, EPSD rolling + sds twisting, no sliding
+// law.
+#define RSL_SCENE_ROLLING_TWISTING_EXACT 7
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 
@@ -263,40 +290,6 @@
 // Patch version of the header.
 #define RSL_VERSION_PATCH 0
 
-// The specialised configurations (the const parameter `S` of the kernels is `Scene as u8`).
-enum Scene
-#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
-  : uint8_t
-#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
- {
-  // Any model: decisions at run time.
-  Generic = 0,
-  // Objective preset, exact transport: linear sliding + EPSD rolling (given k, gamma, damping
-  // always, length form) + sds twisting, no energy bookkeeping.
-  FullExact = 1,
-  // LAMMPS_2021 preset (project-rescale transport): linear history + rolling sds + twisting
-  // sds, the hand-written C baseline's physics.
-  FullLammps = 2,
-  // Objective, exact transport, linear sliding only.
-  SlidingExact = 3,
-  // Objective, exact transport, linear sliding + EPSD rolling, no twisting.
-  SlidingRollingExact = 4,
-  // LAMMPS_2021 preset, linear history sliding only.
-  SlidingLammps = 5,
-  // LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
-  RollingTwistingLammps = 6,
-  // Objective preset, exact transport: EPSD rolling (given k, gamma, damping always, length
-  // form) + sds twisting, no sliding law.
-  RollingTwistingExact = 7,
-};
-#ifndef __cplusplus
-#if __STDC_VERSION__ >= 202311L
-typedef enum Scene Scene;
-#else
-typedef uint8_t Scene;
-#endif // __STDC_VERSION__ >= 202311L
-#endif // __cplusplus
-
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
 // threads at once as long as no thread calls a setter meanwhile.
@@ -372,7 +365,7 @@ typedef struct rsl_batch_report {
   int32_t first_status;
   // The SIMD level that ran (`RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`, `RSL_SIMD_AVX512`).
   uint32_t simd;
-  // The scene kernel that ran (0: generic; see `rsl_batch_scene`).
+  // The scene kernel that ran (`RSL_SCENE_*`; see `rsl_batch_scene`).
   uint32_t scene;
   // Padding.
   uint32_t reserved;
@@ -604,8 +597,7 @@ typedef struct rsl_rolling_params {
   double stiffness_factor;
 } rsl_rolling_params;
 
-// Every scene, in code order.
-#define Scene_ALL { Generic, FullExact, FullLammps, SlidingExact, SlidingRollingExact, SlidingLammps, RollingTwistingLammps, RollingTwistingExact, }
+
 
 
 
@@ -719,10 +711,9 @@ int32_t rsl_batch_decompose_contacts(const struct rsl_sphere *body1,
 // `RSL_SIMD_AVX512` (e.g. `(rsl_batch_simd_support() >> RSL_SIMD_AVX2) & 1`).
 uint32_t rsl_batch_simd_support(void);
 
-// The scene kernel a model would run in a batch (0: generic; `rsl_batch_report.scene` gives
-// the one that ran): 1 full law set, exact transport (objective); 2 full law set, LAMMPS_2021;
-// 3 sliding only, exact; 4 sliding + rolling, exact; 5 sliding only, LAMMPS_2021. Writes
-// `*scene` on success.
+// The scene kernel a model would run in a batch, one of `RSL_SCENE_*` (`RSL_SCENE_GENERIC`
+// for a model no specialised kernel matches; `rsl_batch_report.scene` gives the one that
+// ran). Writes `*scene` on success.
 //
 // # Safety
 // `model` must be a live model; `scene` NULL or writable.

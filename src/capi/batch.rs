@@ -58,6 +58,26 @@ pub const RSL_BATCH_GENERIC: u32 = 1;
 /// Value of `rsl_batch_report.first_failed` when no contact failed.
 pub const RSL_BATCH_NONE: u64 = u64::MAX;
 
+/// Scene kernel (`rsl_batch_report.scene`, `rsl_batch_scene`): the generic kernel, which runs
+/// any model the batch accepts (law decisions taken at run time).
+pub const RSL_SCENE_GENERIC: u32 = 0;
+/// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling (given
+/// stiffness and damping, length form) + sds twisting, no energy bookkeeping.
+pub const RSL_SCENE_FULL_EXACT: u32 = 1;
+/// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting sds.
+pub const RSL_SCENE_FULL_LAMMPS: u32 = 2;
+/// Scene kernel: objective preset, exact transport, linear sliding only.
+pub const RSL_SCENE_SLIDING_EXACT: u32 = 3;
+/// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling.
+pub const RSL_SCENE_SLIDING_ROLLING_EXACT: u32 = 4;
+/// Scene kernel: LAMMPS_2021 preset, linear history sliding only.
+pub const RSL_SCENE_SLIDING_LAMMPS: u32 = 5;
+/// Scene kernel: LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
+pub const RSL_SCENE_ROLLING_TWISTING_LAMMPS: u32 = 6;
+/// Scene kernel: objective preset, exact transport, EPSD rolling + sds twisting, no sliding
+/// law.
+pub const RSL_SCENE_ROLLING_TWISTING_EXACT: u32 = 7;
+
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -89,7 +109,7 @@ pub struct rsl_batch_report {
     pub first_status: i32,
     /// The SIMD level that ran (`RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`, `RSL_SIMD_AVX512`).
     pub simd: u32,
-    /// The scene kernel that ran (0: generic; see `rsl_batch_scene`).
+    /// The scene kernel that ran (`RSL_SCENE_*`; see `rsl_batch_scene`).
     pub scene: u32,
     /// Padding.
     pub reserved: u32,
@@ -875,10 +895,9 @@ pub extern "C" fn rsl_batch_simd_support() -> u32 {
         .fold(0, |bits, s| bits | 1 << s.code())
 }
 
-/// The scene kernel a model would run in a batch (0: generic; `rsl_batch_report.scene` gives
-/// the one that ran): 1 full law set, exact transport (objective); 2 full law set, LAMMPS_2021;
-/// 3 sliding only, exact; 4 sliding + rolling, exact; 5 sliding only, LAMMPS_2021. Writes
-/// `*scene` on success.
+/// The scene kernel a model would run in a batch, one of `RSL_SCENE_*` (`RSL_SCENE_GENERIC`
+/// for a model no specialised kernel matches; `rsl_batch_report.scene` gives the one that
+/// ran). Writes `*scene` on success.
 ///
 /// # Safety
 /// `model` must be a live model; `scene` NULL or writable.
@@ -890,4 +909,34 @@ pub unsafe extern "C" fn rsl_batch_scene(model: *const rsl_model, scene: *mut u3
         *out = Scene::classify(&m.model) as u32;
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_constants_are_the_scene_codes() {
+        let constants = [
+            (RSL_SCENE_GENERIC, Scene::Generic),
+            (RSL_SCENE_FULL_EXACT, Scene::FullExact),
+            (RSL_SCENE_FULL_LAMMPS, Scene::FullLammps),
+            (RSL_SCENE_SLIDING_EXACT, Scene::SlidingExact),
+            (RSL_SCENE_SLIDING_ROLLING_EXACT, Scene::SlidingRollingExact),
+            (RSL_SCENE_SLIDING_LAMMPS, Scene::SlidingLammps),
+            (
+                RSL_SCENE_ROLLING_TWISTING_LAMMPS,
+                Scene::RollingTwistingLammps,
+            ),
+            (
+                RSL_SCENE_ROLLING_TWISTING_EXACT,
+                Scene::RollingTwistingExact,
+            ),
+        ];
+        assert_eq!(constants.len(), Scene::ALL.len());
+        for (code, scene) in constants {
+            assert_eq!(code, scene as u32, "{scene:?}");
+            assert_eq!(Scene::from_code(code as u8), scene);
+        }
+    }
 }
