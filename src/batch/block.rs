@@ -186,9 +186,9 @@ fn geometry_in<L: Lanes>(g: &ContactGeometry<L::Geo>) -> ContactGeometry<L> {
 /// Centres and radii of `N` contacts' two bodies, in `f64` lanes.
 type Centres<G> = (Vec3<G>, Vec3<G>, G, G);
 
-/// Where [`step_inputs`] reads the inputs of its `L::N` contacts, one per lane. Each group is
-/// read where the step first needs it (positions, then motion and forces, then the state):
-/// loading everything first kept too many vectors live (the AVX-512 kernel ran 1.35x slower).
+/// Where a step reads the inputs of its `L::N` contacts, one per lane: the block's rows
+/// ([`RowsAt`]) or one contact's structs ([`Single`]). Each group is read where the step first
+/// needs it (positions, then motion and forces, then the state).
 trait LaneSource<L: Lanes> {
     /// Centres and radii in `f64` lanes, for the geometry.
     fn geometry(&self) -> Centres<L::Geo>;
@@ -456,9 +456,14 @@ fn moving<L: Lanes>(velocity: Vec3<L>, angular_velocity: Vec3<L>, radius: L) -> 
     }
 }
 
-/// Steps slots `at..at + L::N` of the block ([`step_inputs`]), each lane value one load from a
-/// row; writes the new state and the loads back into the rows and records the slots' validity
-/// and slip bits.
+/// Steps slots `at..at + L::N` of the block, each lane value one load from a row; writes the
+/// new state and the loads back into the rows and records the slots' validity and slip bits.
+///
+/// Its body repeats [`step_inputs`]' sequence (the same helpers, in the same order) instead of
+/// calling it: with the results returned through `LaneResults` the AVX-512 kernel measured
+/// 41-42 ns per contact in cache against 30 for this form (full LAMMPS set, edited builds of
+/// the bench driver). The compiler's output is sensitive to such shapes: rerun the in-cache
+/// benchmark at both SIMD levels after any change here.
 #[inline(always)]
 fn step_lanes<L: Lanes>(model: &Model, dt: f64, needs_kn: bool, at: usize, b: &mut Block) {
     let src = RowsAt { block: b, at };
