@@ -45,10 +45,7 @@ type Row = [f64; BLOCK];
 /// The rows of a 3-vector quantity.
 type Rows3 = [Row; 3];
 
-/// One block of contacts, a row per quantity (inputs, then the results of the step). Aligned
-/// to a cache line, and every row a whole number of lines, so that no lane load or store of
-/// up to 64 bytes straddles two lines (an unaligned block measured the AVX-512 kernel 1.4x
-/// slower: 43 against 30 ns per contact in cache).
+/// One block of contacts, a row per quantity (inputs, then the results of the step).
 struct Block {
     position1: Rows3,
     position2: Rows3,
