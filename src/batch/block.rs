@@ -458,9 +458,10 @@ fn moving<L: Lanes>(velocity: Vec3<L>, angular_velocity: Vec3<L>, radius: L) -> 
 ///
 /// Its body repeats [`step_inputs`]' sequence (the same helpers, in the same order) instead of
 /// calling it: with the results returned through `LaneResults` the AVX-512 kernel measured
-/// 41-42 ns per contact in cache against 30 for this form (full LAMMPS set, edited builds of
-/// the bench driver). The compiler's output is sensitive to such shapes: rerun the in-cache
-/// benchmark at both SIMD levels after any change here.
+/// 41-42 ns per contact in cache against 30 for this form, and with one shared function
+/// returning `(valid, state, StepOutput)` the AVX2 kernel measured 37-41 against 35 (full
+/// LAMMPS set, edited builds of the bench driver). The compiler's output is sensitive to such
+/// shapes: rerun the in-cache benchmark at both SIMD levels after any change here.
 #[inline(always)]
 fn step_lanes<L: Lanes>(model: &Model, dt: f64, needs_kn: bool, at: usize, b: &mut Block) {
     let src = RowsAt { block: b, at };
