@@ -20,12 +20,12 @@
 //! replaces: the results are bitwise the same.
 
 use super::{
-    lane_bits, needs_normal_stiffness, scene, step_error, BatchReport, Lanes, PairLoads, StateSlot,
-    StepAccess, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
+    geometry_in, lane_bits, needs_normal_stiffness, scene, step_error, BatchReport, Lanes,
+    PairLoads, StateSlot, StepAccess, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
 };
 use crate::batch::{Scene, SphereSlot as _};
 use crate::decompose::Sphere;
-use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid, ContactGeometry};
+use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid};
 use crate::laws::model::Model;
 use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput};
 use crate::loads::ContactLoads;
@@ -160,23 +160,6 @@ fn gather<L: Lanes, A: StepAccess>(
         b.state[6][i] = s.twisting_angle;
         put3(state3(&mut b.state, 7), i, &s.twisting_offaxis);
         put3(state3(&mut b.state, 10), i, &s.previous_normal);
-    }
-}
-
-/// The geometry in the lane type (rounded to `f32` for the mixed-precision kernels).
-#[inline(always)]
-fn geometry_in<L: Lanes>(g: &ContactGeometry<L::Geo>) -> ContactGeometry<L> {
-    let conv = |x: L::Geo| L::from_geo(x, x);
-    let conv3 = |v: &Vec3<L::Geo>| Vec3::new(conv(v.x), conv(v.y), conv(v.z));
-    ContactGeometry {
-        normal: conv3(&g.normal),
-        distance: conv(g.distance),
-        overlap: conv(g.overlap),
-        branch1: conv(g.branch1),
-        branch2: conv(g.branch2),
-        rolling_radius: conv(g.rolling_radius),
-        contact_point: conv3(&g.contact_point),
-        branch_rate_factor: conv(g.branch_rate_factor),
     }
 }
 
@@ -413,7 +396,7 @@ fn step_inputs<L: Lanes>(
     let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, &state);
     let out = contact_step_with_geometry(
         model,
-        geometry_in::<L>(&g),
+        geometry_in::<L>(&g, &g),
         &body1,
         Partner::Sphere(&body2),
         &step_input(force, stiffness, dt),
@@ -474,7 +457,7 @@ fn step_lanes<L: Lanes>(model: &Model, dt: f64, needs_kn: bool, at: usize, b: &m
     let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, &state);
     let out = contact_step_with_geometry(
         model,
-        geometry_in::<L>(&g),
+        geometry_in::<L>(&g, &g),
         &body1,
         Partner::Sphere(&body2),
         &step_input(force, stiffness, dt),

@@ -618,17 +618,27 @@ impl<L: Lanes> Gathered<L> {
     /// The geometry in the lane type.
     #[inline(always)]
     fn geometry_in(&self) -> ContactGeometry<L> {
-        let [a, b] = &self.geometry;
-        ContactGeometry {
-            normal: conv3::<L>(&a.normal, &b.normal),
-            distance: L::from_geo(a.distance, b.distance),
-            overlap: L::from_geo(a.overlap, b.overlap),
-            branch1: L::from_geo(a.branch1, b.branch1),
-            branch2: L::from_geo(a.branch2, b.branch2),
-            rolling_radius: L::from_geo(a.rolling_radius, b.rolling_radius),
-            contact_point: conv3::<L>(&a.contact_point, &b.contact_point),
-            branch_rate_factor: L::from_geo(a.branch_rate_factor, b.branch_rate_factor),
-        }
+        let [lo, hi] = &self.geometry;
+        geometry_in::<L>(lo, hi)
+    }
+}
+
+/// The geometry in the lane type `L` (rounded to `f32` for the mixed-precision kernels): lanes
+/// `0..L::Geo::N` from `lo`, the others (if any) from `hi`.
+#[inline(always)]
+fn geometry_in<L: Lanes>(
+    lo: &ContactGeometry<L::Geo>,
+    hi: &ContactGeometry<L::Geo>,
+) -> ContactGeometry<L> {
+    ContactGeometry {
+        normal: conv3::<L>(&lo.normal, &hi.normal),
+        distance: L::from_geo(lo.distance, hi.distance),
+        overlap: L::from_geo(lo.overlap, hi.overlap),
+        branch1: L::from_geo(lo.branch1, hi.branch1),
+        branch2: L::from_geo(lo.branch2, hi.branch2),
+        rolling_radius: L::from_geo(lo.rolling_radius, hi.rolling_radius),
+        contact_point: conv3::<L>(&lo.contact_point, &hi.contact_point),
+        branch_rate_factor: L::from_geo(lo.branch_rate_factor, hi.branch_rate_factor),
     }
 }
 
