@@ -1,0 +1,66 @@
+#!/bin/sh
+# Where the batch step kernel spends its time: builds the library with line tables, links the
+# benchmark driver to it, samples one kernel with `perf record -e cpu-clock` and attributes each
+# sample to a part of `src/batch/block.rs` through its inline chain (addr2line -i).
+#
+#   scripts/profile_batch.sh [ROW] [WORKLOAD] [CONTACTS]
+#     ROW       the driver row to profile (default batch_f64_avx512; see bench/bench.c)
+#     WORKLOAD  A or B (default A); CONTACTS (default 1200000)
+#
+# Needs perf and addr2line (binutils). Prints the share of the kernel's samples per part.
+set -eu
+row=${1:-batch_f64_avx512}
+workload=${2:-A}
+contacts=${3:-1200000}
+cd "$(dirname "$0")/.."
+target=target/profile-lines
+CARGO_PROFILE_RELEASE_DEBUG=line-tables-only CARGO_TARGET_DIR=$target cargo build --release --lib
+out=$(mktemp -d)
+cc=${CC:-cc}
+$cc -O3 -march=native -no-pie -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude bench/bench.c \
+  $target/release/librollslide.a -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$out/driver"
+perf record -q -e cpu-clock -o "$out/perf.data" \
+  "$out/driver" "$contacts" 6 --workload="$workload" --only="$row" >/dev/null
+# The kernels are named after their level and precision (x86::avx512_f64, scalar_f32...).
+case $row in
+  *f32_avx512*) sym=avx512_f32 ;; *f32_avx2*) sym=avx2_f32 ;; *f32_scalar*) sym=scalar_f32 ;;
+  *avx2*) sym=avx2_f64 ;; *scalar*) sym=scalar_f64 ;; *) sym=avx512_f64 ;;
+esac
+perf script -i "$out/perf.data" -F ip,sym 2>/dev/null | awk -v s="$sym" '$0 ~ s {print $1}' |
+  sort | uniq -c >"$out/ips"
+awk '{print "0x" $2}' "$out/ips" | addr2line -e "$out/driver" -i -f -C -a >"$out/lines"
+python3 - "$out/ips" "$out/lines" <<'EOF'
+import collections, sys
+counts = {int(a, 16): int(c) for c, a in (l.split() for l in open(sys.argv[1]))}
+blocks, cur = [], None
+for line in open(sys.argv[2]):
+    line = line.rstrip("\n")
+    if line.startswith("0x"):
+        cur = [int(line, 16), []]
+        blocks.append(cur)
+    else:
+        cur[1].append(line)
+parts = collections.Counter()
+for addr, lines in blocks:
+    names = [lines[i].split("<")[0].split("::")[-1] for i in range(0, len(lines) - 1, 2)]
+    part = "other"
+    for name in ("gather", "deliver", "step_lanes", "step_one"):
+        if name in names:
+            part = name
+            break
+    if part in ("step_lanes", "step_one"):
+        if "contact_step_with_geometry" in names:
+            part = "physics"
+        elif "pair_geometry_unchecked" in names or "pair_geometry_valid" in names:
+            part = "geometry and its validity"
+        elif "inputs_ok" in names or "results_ok" in names:
+            part = "finiteness probes"
+        else:
+            part = "row loads and stores" if part == "step_lanes" else "reading the structs"
+    parts[part] += counts.get(addr, 0)
+total = sum(parts.values()) or 1
+for part, n in parts.most_common():
+    print(f"{100 * n / total:5.1f}%  {part}")
+print(f"({total} samples)")
+EOF
+rm -rf "$out"
