@@ -20,7 +20,7 @@ cc=${CC:-cc}
 $cc -O3 -march=native -no-pie -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude bench/bench.c \
   $target/release/librollslide.a -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$out/driver"
 perf record -q -e cpu-clock -o "$out/perf.data" \
-  "$out/driver" "$contacts" 6 --workload="$workload" --only="$row" >/dev/null
+  "$out/driver" "$contacts" ${REPS:-6} --workload="$workload" --only="$row" >/dev/null
 # The kernels are named after their level and precision (x86::avx512_f64, scalar_f32...).
 case $row in
   *f32_avx512*) sym=avx512_f32 ;; *f32_avx2*) sym=avx2_f32 ;; *f32_scalar*) sym=scalar_f32 ;;

@@ -304,7 +304,7 @@ fn random_model(rng: &mut Rng, preset: Preset) -> Model {
         stiffness: rng.uniform(1.0, 1e3),
         damping: rng.uniform(0.0, 2.0),
         friction: rng.uniform(0.01, 0.3),
-        damping_mode: if rng.next_u64() % 2 == 0 {
+        damping_mode: if rng.next_u64().is_multiple_of(2) {
             DampingMode::Always
         } else {
             DampingMode::BelowLimit
@@ -312,7 +312,7 @@ fn random_model(rng: &mut Rng, preset: Preset) -> Model {
         ..m.rolling
     };
     m.twisting = TwistingParams {
-        law: if rng.next_u64() % 2 == 0 {
+        law: if rng.next_u64().is_multiple_of(2) {
             TwistingLaw::Sds
         } else {
             TwistingLaw::Marshall

@@ -8,13 +8,15 @@
 //! goes through three simple loops:
 //!
 //! 1. **gather**: each contact's bodies, state and `f_n` are copied into a [`Block`], one row
-//!    per quantity (structure of arrays);
+//!    per quantity (structure of arrays), eight contacts at a time by a [`GroupCopy`] (value by
+//!    value, or by SIMD transposition where the C layer supplies one for its structs);
 //! 2. **step**: the generic physics runs over the block, `L::N` contacts at a time, with every
 //!    lane value one vector load from a row, and writes the new state and the loads back into
 //!    rows, with the lane-wise validity and slip masks;
 //! 3. **deliver**: each valid contact's state is written and its loads handed to the host
 //!    (added to the particles' accumulators, or written per contact); an invalid one is
-//!    skipped and reported.
+//!    skipped and reported. The states of eight valid contacts in a row go back through the
+//!    [`GroupCopy`] too.
 //!
 //! The physics, the validation and the rounding are those of the lane-by-lane kernel it
 //! replaces: the results are bitwise the same.
@@ -23,7 +25,7 @@ use super::{
     geometry_in, lane_bits, needs_normal_stiffness, scene, step_error, BatchReport, Lanes,
     PairLoads, StateSlot, StepAccess, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
 };
-use crate::batch::{Scene, SphereSlot as _};
+use crate::batch::{Scene, SphereSlot};
 use crate::decompose::Sphere;
 use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid};
 use crate::laws::model::Model;
@@ -36,8 +38,135 @@ use simba::simd::SimdBool;
 /// (about 11 KB) stay in the L1 cache.
 pub(crate) const BLOCK: usize = 32;
 
-// Every lane count divides the block, and the per-block masks (`u64`) have a bit per contact.
-const _: () = assert!(BLOCK % super::MAX_LANES == 0 && BLOCK <= 64);
+/// Contacts per group: the unit in which a [`GroupCopy`] moves data between the host's structs
+/// and a block's rows.
+pub(crate) const GROUP: usize = 8;
+
+/// Doubles of a body, in this order: position (3), velocity (3), angular velocity (3), radius.
+pub(crate) const BODY_WORDS: usize = 10;
+
+/// Doubles of a state, in the order of [`ContactState`]: sliding spring (3), rolling spring
+/// (3), twisting angle, twisting off-axis part (3), previous normal (3).
+pub(crate) const STATE_WORDS: usize = 13;
+
+// Every lane count divides the group, the group divides the block, and the per-block masks
+// (`u64`) have a bit per contact.
+const _: () =
+    assert!(GROUP.is_multiple_of(super::MAX_LANES) && BLOCK.is_multiple_of(GROUP) && BLOCK <= 64);
+
+/// Eight contacts' values of one quantity (one row's share of a group).
+pub type GroupRow = [f64; GROUP];
+
+/// How the block moves a group of [`GROUP`] consecutive contacts between the host's structs
+/// (`P` a body, `S` a state) and its rows: row `q`, slot `k` holds word `q` of contact `k`
+/// ([`BODY_WORDS`], [`STATE_WORDS`] give the word order). It only copies: every implementation
+/// gives the same rows and states bit for bit. [`PortableCopy`] copies value by value; the C
+/// layer transposes its own structs with SIMD shuffles.
+pub trait GroupCopy<P, S>: Copy {
+    /// `rows[q][k]` = word `q` of `bodies[k]`.
+    fn bodies(self, bodies: [&P; GROUP], rows: [&mut GroupRow; BODY_WORDS]);
+    /// `rows[q][k]` = word `q` of `states[k]`.
+    fn states(self, states: [&S; GROUP], rows: [&mut GroupRow; STATE_WORDS]);
+    /// Writes word `q` of `states[k]` from `rows[q][k]` and its slip flags from `slip[k]` (as
+    /// [`StateSlot::store`]).
+    fn store_states(
+        self,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        states: &mut [S; GROUP],
+    );
+}
+
+/// [`GroupCopy`] value by value, for any body and state type.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PortableCopy;
+
+impl<P: SphereSlot, S: StateSlot> GroupCopy<P, S> for PortableCopy {
+    #[inline(always)]
+    fn bodies(self, bodies: [&P; GROUP], mut rows: [&mut GroupRow; BODY_WORDS]) {
+        for (k, body) in bodies.iter().enumerate() {
+            let b = body.sphere();
+            let words = [
+                b.position.x,
+                b.position.y,
+                b.position.z,
+                b.velocity.x,
+                b.velocity.y,
+                b.velocity.z,
+                b.angular_velocity.x,
+                b.angular_velocity.y,
+                b.angular_velocity.z,
+                b.radius,
+            ];
+            for (row, w) in rows.iter_mut().zip(words) {
+                row[k] = w;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn states(self, states: [&S; GROUP], mut rows: [&mut GroupRow; STATE_WORDS]) {
+        for (k, state) in states.iter().enumerate() {
+            for (row, w) in rows.iter_mut().zip(state_words(&state.load())) {
+                row[k] = w;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn store_states(
+        self,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        states: &mut [S; GROUP],
+    ) {
+        for (k, state) in states.iter_mut().enumerate() {
+            state.store(&state_from_words(|q| rows[q][k]), slip[k]);
+        }
+    }
+}
+
+/// The words of a state, in [`STATE_WORDS`] order.
+#[inline(always)]
+fn state_words(s: &ContactState<f64>) -> [f64; STATE_WORDS] {
+    [
+        s.sliding_spring.x,
+        s.sliding_spring.y,
+        s.sliding_spring.z,
+        s.rolling_spring.x,
+        s.rolling_spring.y,
+        s.rolling_spring.z,
+        s.twisting_angle,
+        s.twisting_offaxis.x,
+        s.twisting_offaxis.y,
+        s.twisting_offaxis.z,
+        s.previous_normal.x,
+        s.previous_normal.y,
+        s.previous_normal.z,
+    ]
+}
+
+/// The state whose word `q` is `word(q)` ([`STATE_WORDS`] order).
+#[inline(always)]
+fn state_from_words(word: impl Fn(usize) -> f64) -> ContactState<f64> {
+    let v = |q: usize| Vec3::new(word(q), word(q + 1), word(q + 2));
+    ContactState {
+        sliding_spring: v(0),
+        rolling_spring: v(3),
+        twisting_angle: word(6),
+        twisting_offaxis: v(7),
+        previous_normal: v(10),
+    }
+}
+
+/// First word of the position in [`BODY_WORDS`] order.
+const POSITION: usize = 0;
+/// First word of the velocity.
+const VELOCITY: usize = 3;
+/// First word of the angular velocity.
+const ANGULAR_VELOCITY: usize = 6;
+/// The radius' word.
+const RADIUS: usize = 9;
 
 /// One quantity for every contact of a block.
 type Row = [f64; BLOCK];
@@ -47,20 +176,14 @@ type Rows3 = [Row; 3];
 
 /// One block of contacts, a row per quantity (inputs, then the results of the step).
 struct Block {
-    position1: Rows3,
-    position2: Rows3,
-    velocity1: Rows3,
-    velocity2: Rows3,
-    angular1: Rows3,
-    angular2: Rows3,
-    radius1: Row,
-    radius2: Row,
+    /// Body 1 in [`BODY_WORDS`] order.
+    body1: [Row; BODY_WORDS],
+    /// Body 2 in [`BODY_WORDS`] order.
+    body2: [Row; BODY_WORDS],
     normal_force: Row,
     normal_stiffness: Row,
-    /// The state in the order of [`ContactState`]: sliding spring (3), rolling spring (3),
-    /// twisting angle, twisting off-axis part (3), previous normal (3). The step writes the
-    /// new state over it.
-    state: [Row; 13],
+    /// The state in [`STATE_WORDS`] order. The step writes the new state over it.
+    state: [Row; STATE_WORDS],
     /// Force on body 1 (3), torque on body 1 (3), torque on body 2 (3).
     loads: [Row; 9],
     /// `SLIP_*` bits per contact.
@@ -73,32 +196,18 @@ struct Block {
 
 impl Block {
     fn new() -> Block {
-        let rows3 = [[0.0; BLOCK]; 3];
         Block {
-            position1: rows3,
-            position2: rows3,
-            velocity1: rows3,
-            velocity2: rows3,
-            angular1: rows3,
-            angular2: rows3,
-            radius1: [0.0; BLOCK],
-            radius2: [0.0; BLOCK],
+            body1: [[0.0; BLOCK]; BODY_WORDS],
+            body2: [[0.0; BLOCK]; BODY_WORDS],
             normal_force: [0.0; BLOCK],
             normal_stiffness: [1.0; BLOCK],
-            state: [[0.0; BLOCK]; 13],
+            state: [[0.0; BLOCK]; STATE_WORDS],
             loads: [[0.0; BLOCK]; 9],
             slip: [0; BLOCK],
             index_ok: 0,
             valid: 0,
         }
     }
-}
-
-#[inline(always)]
-fn put3(rows: &mut Rows3, i: usize, v: &Vec3<f64>) {
-    rows[0][i] = v.x;
-    rows[1][i] = v.y;
-    rows[2][i] = v.z;
 }
 
 #[inline(always)]
@@ -117,49 +226,72 @@ fn store3<L: Lanes>(rows: &mut Rows3, at: usize, v: &Vec3<L>) {
     v.z.store(&mut rows[2][at..]);
 }
 
-/// The three rows of `block.state` from `first`.
+/// The three rows of `rows` from `first`.
 #[inline(always)]
-fn state3(state: &mut [Row; 13], first: usize) -> &mut Rows3 {
-    let rows: &mut [Row] = &mut state[first..first + 3];
+fn rows3<const Q: usize>(rows: &[Row; Q], first: usize) -> &Rows3 {
+    let rows: &[Row] = &rows[first..first + 3];
     rows.try_into().expect("three rows")
 }
 
-/// Copies contacts `c0..c0 + count` into the block's rows (slots `0..count`), and pads the
-/// slots up to a multiple of `L::N` with the last contact (their results are dropped).
+/// The three rows of `rows` from `first`, to write.
 #[inline(always)]
-fn gather<L: Lanes, A: StepAccess>(
+fn rows3_mut<const Q: usize>(rows: &mut [Row; Q], first: usize) -> &mut Rows3 {
+    let rows: &mut [Row] = &mut rows[first..first + 3];
+    rows.try_into().expect("three rows")
+}
+
+/// Slots `g..g + GROUP` of each row.
+#[inline(always)]
+fn group_mut<const Q: usize>(rows: &mut [Row; Q], g: usize) -> [&mut GroupRow; Q] {
+    rows.each_mut()
+        .map(|row| (&mut row[g..g + GROUP]).try_into().expect("a group"))
+}
+
+/// Slots `g..g + GROUP` of each row, to read.
+#[inline(always)]
+fn group<const Q: usize>(rows: &[Row; Q], g: usize) -> [&GroupRow; Q] {
+    rows.each_ref()
+        .map(|row| (&row[g..g + GROUP]).try_into().expect("a group"))
+}
+
+/// Copies contacts `c0..c0 + count` into the block's rows (slots `0..count`), a group of
+/// [`GROUP`] at a time, and pads the slots of the last group with the last contact (their
+/// results are dropped).
+#[inline(always)]
+fn gather<A: StepAccess, X: GroupCopy<A::P, A::State>>(
     access: &A,
+    copy: X,
     c0: usize,
     count: usize,
     needs_kn: bool,
     b: &mut Block,
 ) {
-    let padded = count.div_ceil(L::N) * L::N;
     b.index_ok = 0;
-    for i in 0..padded {
-        let c = c0 + i.min(count - 1);
-        access.touch(c + TOUCH_AHEAD);
-        let (one, two, ok) = access.body_refs(c);
-        let (one, two): (Sphere<f64>, Sphere<f64>) = (one.sphere(), two.sphere());
-        b.index_ok |= (ok as u64) << i;
-        put3(&mut b.position1, i, &one.position);
-        put3(&mut b.position2, i, &two.position);
-        put3(&mut b.velocity1, i, &one.velocity);
-        put3(&mut b.velocity2, i, &two.velocity);
-        put3(&mut b.angular1, i, &one.angular_velocity);
-        put3(&mut b.angular2, i, &two.angular_velocity);
-        b.radius1[i] = one.radius;
-        b.radius2[i] = two.radius;
-        b.normal_force[i] = access.normal_force(c);
-        if needs_kn {
-            b.normal_stiffness[i] = access.normal_stiffness(c);
+    let mut g = 0;
+    while g < count {
+        let contact = |k: usize| c0 + (g + k).min(count - 1);
+        for k in 0..GROUP {
+            let (i, c) = (g + k, contact(k));
+            access.touch(c + TOUCH_AHEAD);
+            b.index_ok |= (access.body_refs(c).2 as u64) << i;
+            b.normal_force[i] = access.normal_force(c);
+            if needs_kn {
+                b.normal_stiffness[i] = access.normal_stiffness(c);
+            }
         }
-        let s = access.state_ref(c).load();
-        put3(state3(&mut b.state, 0), i, &s.sliding_spring);
-        put3(state3(&mut b.state, 3), i, &s.rolling_spring);
-        b.state[6][i] = s.twisting_angle;
-        put3(state3(&mut b.state, 7), i, &s.twisting_offaxis);
-        put3(state3(&mut b.state, 10), i, &s.previous_normal);
+        copy.bodies(
+            std::array::from_fn(|k| access.body_refs(contact(k)).0),
+            group_mut(&mut b.body1, g),
+        );
+        copy.bodies(
+            std::array::from_fn(|k| access.body_refs(contact(k)).1),
+            group_mut(&mut b.body2, g),
+        );
+        copy.states(
+            std::array::from_fn(|k| access.state_ref(contact(k))),
+            group_mut(&mut b.state, g),
+        );
+        g += GROUP;
     }
 }
 
@@ -191,27 +323,22 @@ impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
     fn geometry(&self) -> Centres<L::Geo> {
         let (b, at) = (self.block, self.at);
         (
-            load3::<L::Geo>(&b.position1, at),
-            load3::<L::Geo>(&b.position2, at),
-            L::Geo::load(&b.radius1[at..]),
-            L::Geo::load(&b.radius2[at..]),
+            load3::<L::Geo>(rows3(&b.body1, POSITION), at),
+            load3::<L::Geo>(rows3(&b.body2, POSITION), at),
+            L::Geo::load(&b.body1[RADIUS][at..]),
+            L::Geo::load(&b.body2[RADIUS][at..]),
         )
     }
     #[inline(always)]
     fn bodies(&self) -> (Sphere<L>, Sphere<L>) {
-        let (b, at) = (self.block, self.at);
-        (
+        let body = |rows: &[Row; BODY_WORDS]| {
             moving(
-                load3(&b.velocity1, at),
-                load3(&b.angular1, at),
-                L::load(&b.radius1[at..]),
-            ),
-            moving(
-                load3(&b.velocity2, at),
-                load3(&b.angular2, at),
-                L::load(&b.radius2[at..]),
-            ),
-        )
+                load3(rows3(rows, VELOCITY), self.at),
+                load3(rows3(rows, ANGULAR_VELOCITY), self.at),
+                L::load(&rows[RADIUS][self.at..]),
+            )
+        };
+        (body(&self.block.body1), body(&self.block.body2))
     }
     #[inline(always)]
     fn forces(&self, needs_kn: bool) -> (L, L) {
@@ -226,16 +353,12 @@ impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
     #[inline(always)]
     fn state(&self) -> ContactState<L> {
         let (st, at) = (&self.block.state, self.at);
-        let rows3 = |first: usize| -> &Rows3 {
-            let rows: &[Row] = &st[first..first + 3];
-            rows.try_into().expect("three rows")
-        };
         ContactState {
-            sliding_spring: load3(rows3(0), at),
-            rolling_spring: load3(rows3(3), at),
+            sliding_spring: load3(rows3(st, 0), at),
+            rolling_spring: load3(rows3(st, 3), at),
             twisting_angle: L::load(&st[6][at..]),
-            twisting_offaxis: load3(rows3(7), at),
-            previous_normal: load3(rows3(10), at),
+            twisting_offaxis: load3(rows3(st, 7), at),
+            previous_normal: load3(rows3(st, 10), at),
         }
     }
 }
@@ -466,11 +589,11 @@ fn step_lanes<L: Lanes>(model: &Model, dt: f64, needs_kn: bool, at: usize, b: &m
     let l = &out.loads;
     let valid = geometry_ok & (inputs_ok & results_ok(l, &state)).bitmask();
     b.valid |= (valid & lane_bits(L::N)) << at;
-    store3(state3(&mut b.state, 0), at, &state.sliding_spring);
-    store3(state3(&mut b.state, 3), at, &state.rolling_spring);
+    store3(rows3_mut(&mut b.state, 0), at, &state.sliding_spring);
+    store3(rows3_mut(&mut b.state, 3), at, &state.rolling_spring);
     state.twisting_angle.store(&mut b.state[6][at..]);
-    store3(state3(&mut b.state, 7), at, &state.twisting_offaxis);
-    store3(state3(&mut b.state, 10), at, &state.previous_normal);
+    store3(rows3_mut(&mut b.state, 7), at, &state.twisting_offaxis);
+    store3(rows3_mut(&mut b.state, 10), at, &state.previous_normal);
     let loads: &mut [Row; 9] = &mut b.loads;
     let (force1, rest) = loads.split_at_mut(3);
     let (torque1, torque2) = rest.split_at_mut(3);
@@ -570,11 +693,13 @@ fn refuse<A: StepAccess>(
 }
 
 /// Writes the state and hands over the loads of every valid contact of the block (slots
-/// `0..count`, contacts `c0..`); reports the others.
+/// `0..count`, contacts `c0..`); reports the others. A group of [`GROUP`] valid contacts has
+/// its states written by `copy`.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn deliver<A: StepAccess>(
+fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
     access: &mut A,
+    copy: X,
     model: &Model,
     dt: f64,
     needs_kn: bool,
@@ -584,18 +709,23 @@ fn deliver<A: StepAccess>(
     report: &mut BatchReport,
 ) {
     let ok = b.valid & b.index_ok & lane_bits(count);
-    for i in 0..count {
-        let c = c0 + i;
-        if ok >> i & 1 == 1 {
-            let st = &b.state;
-            let s = ContactState {
-                sliding_spring: Vec3::new(st[0][i], st[1][i], st[2][i]),
-                rolling_spring: Vec3::new(st[3][i], st[4][i], st[5][i]),
-                twisting_angle: st[6][i],
-                twisting_offaxis: Vec3::new(st[7][i], st[8][i], st[9][i]),
-                previous_normal: Vec3::new(st[10][i], st[11][i], st[12][i]),
-            };
-            access.state(c).store(&s, b.slip[i]);
+    let mut g = 0;
+    while g < count {
+        let whole = g + GROUP <= count && (ok >> g) & lane_bits(GROUP) == lane_bits(GROUP);
+        if whole {
+            let slip: &[u32; GROUP] = b.slip[g..g + GROUP].try_into().expect("a group");
+            copy.store_states(group(&b.state, g), slip, access.state_group(c0 + g));
+        }
+        for i in g..(g + GROUP).min(count) {
+            let c = c0 + i;
+            if ok >> i & 1 == 0 {
+                refuse(access, model, dt, needs_kn, c, report);
+                continue;
+            }
+            if !whole {
+                let s = state_from_words(|q| b.state[q][i]);
+                access.state(c).store(&s, b.slip[i]);
+            }
             let l = &b.loads;
             access.emit(
                 c,
@@ -606,20 +736,22 @@ fn deliver<A: StepAccess>(
                 },
             );
             report.processed += 1;
-        } else {
-            refuse(access, model, dt, needs_kn, c, report);
         }
+        g += GROUP;
     }
 }
 
 /// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:
 /// [`super::check_batch_model`], [`super::check_time_step`]). `L` is the lane type, `S` the
-/// [`Scene`] code (its constants must match `model`: use [`Scene::classify`], or 0).
+/// [`Scene`] code (its constants must match `model`: use [`Scene::classify`], or 0). `copy`
+/// moves the groups of contacts between the host's structs and the block (the one-lane
+/// kernels do not use it: they read the structs directly).
 #[inline(always)]
-pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess>(
+pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     model: &Model,
     dt: f64,
     access: &mut A,
+    copy: X,
 ) -> BatchReport {
     let model = scene::fold(Scene::from_code(S), model);
     let needs_kn = needs_normal_stiffness(&model);
@@ -638,14 +770,24 @@ pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess>(
     let mut c0 = 0;
     while c0 < n {
         let count = (n - c0).min(BLOCK);
-        gather::<L, A>(&*access, c0, count, needs_kn, &mut block);
+        gather(&*access, copy, c0, count, needs_kn, &mut block);
         block.valid = 0;
         let mut at = 0;
         while at < count {
             step_lanes::<L>(&model, dt, needs_kn, at, &mut block);
             at += L::N;
         }
-        deliver(access, &model, dt, needs_kn, c0, count, &block, &mut report);
+        deliver(
+            access,
+            copy,
+            &model,
+            dt,
+            needs_kn,
+            c0,
+            count,
+            &block,
+            &mut report,
+        );
         c0 += count;
     }
     report
@@ -655,16 +797,24 @@ pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess>(
 mod tests {
     use super::*;
 
-    fn get3(rows: &Rows3, i: usize) -> Vec3<f64> {
-        Vec3::new(rows[0][i], rows[1][i], rows[2][i])
+    #[test]
+    fn state_words_round_trip_in_contact_state_order() {
+        let words: [f64; STATE_WORDS] = std::array::from_fn(|q| q as f64 + 0.5);
+        let s = state_from_words(|q| words[q]);
+        assert_eq!(s.rolling_spring, Vec3::new(3.5, 4.5, 5.5));
+        assert_eq!(s.twisting_angle, 6.5);
+        assert_eq!(s.previous_normal, Vec3::new(10.5, 11.5, 12.5));
+        assert_eq!(state_words(&s), words);
     }
 
     #[test]
-    fn rows_round_trip_a_vector() {
+    fn a_group_is_its_slots_of_every_row() {
         let mut rows = [[0.0; BLOCK]; 3];
-        let v = Vec3::new(1.0, -2.0, 3.5);
-        put3(&mut rows, BLOCK - 1, &v);
-        assert_eq!(get3(&rows, BLOCK - 1), v);
-        assert_eq!(get3(&rows, 0), Vec3::zeros());
+        for (q, row) in group_mut(&mut rows, GROUP).into_iter().enumerate() {
+            row[GROUP - 1] = q as f64 + 1.0;
+        }
+        assert_eq!([rows[0][2 * GROUP - 1], rows[2][2 * GROUP - 1]], [1.0, 3.0]);
+        assert_eq!(rows.iter().flatten().filter(|&&v| v != 0.0).count(), 3);
+        assert_eq!(group(&rows, GROUP)[1][GROUP - 1], 2.0);
     }
 }

@@ -28,7 +28,8 @@ pub mod block;
 pub mod lanes;
 pub mod scene;
 
-pub use block::step_kernel;
+pub use block::{step_kernel, GroupCopy, GroupRow, PortableCopy};
+pub(crate) use block::{BODY_WORDS, GROUP, STATE_WORDS};
 pub use lanes::{Lanes, MAX_LANES};
 pub use scene::Scene;
 
@@ -217,6 +218,8 @@ pub trait StepAccess: Gather {
     fn state(&mut self, c: usize) -> &mut Self::State;
     /// The state of contact `c`, read only.
     fn state_ref(&self, c: usize) -> &Self::State;
+    /// The states of contacts `c..c + GROUP` (all `< len()`).
+    fn state_group(&mut self, c: usize) -> &mut [Self::State; block::GROUP];
     /// Delivers the loads of a successful step of contact `c`.
     fn emit(&mut self, c: usize, loads: &PairLoads);
 }
@@ -282,7 +285,7 @@ impl<'a, P, S, V> ParticleSteps<'a, P, S, V> {
         let nc = self.pairs.len();
         let np = self.particles.len();
         let ok = self.normal_force.len() == nc
-            && self.normal_stiffness.map_or(true, |k| k.len() == nc)
+            && self.normal_stiffness.is_none_or(|k| k.len() == nc)
             && self.states.len() == nc
             && self.force.len() == np
             && self.torque.len() == np;
@@ -350,6 +353,12 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot> StepAccess for ParticleSteps<'_, P
         &mut self.states[c]
     }
     #[inline(always)]
+    fn state_group(&mut self, c: usize) -> &mut [S; block::GROUP] {
+        (&mut self.states[c..c + block::GROUP])
+            .try_into()
+            .expect("a group of states")
+    }
+    #[inline(always)]
     fn state_ref(&self, c: usize) -> &S {
         &self.states[c]
     }
@@ -386,7 +395,7 @@ impl<'a, P, S, O> ContactSteps<'a, P, S, O> {
         let n = self.body1.len();
         let ok = self.body2.len() == n
             && self.normal_force.len() == n
-            && self.normal_stiffness.map_or(true, |k| k.len() == n)
+            && self.normal_stiffness.is_none_or(|k| k.len() == n)
             && self.states.len() == n
             && self.out.len() == n;
         if ok {
@@ -432,6 +441,12 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     #[inline(always)]
     fn state(&mut self, c: usize) -> &mut S {
         &mut self.states[c]
+    }
+    #[inline(always)]
+    fn state_group(&mut self, c: usize) -> &mut [S; block::GROUP] {
+        (&mut self.states[c..c + block::GROUP])
+            .try_into()
+            .expect("a group of states")
     }
     #[inline(always)]
     fn state_ref(&self, c: usize) -> &S {

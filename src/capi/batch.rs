@@ -22,8 +22,8 @@ use super::{guard, optional_input, output};
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactSteps, DecomposeAccess, DecompositionSlot,
-    LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, Scene, SphereSlot, StateSlot,
-    StepAccess,
+    LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, Scene, SphereSlot,
+    StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
 use crate::error::Error;
@@ -333,23 +333,29 @@ impl BatchConfig {
 
 // The kernels, one function per (precision, SIMD level); `S` is the scene code.
 
-fn scalar_f64<const S: u8, A: StepAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
-    step_kernel::<f64, S, A>(m, dt, a)
+/// What the step kernels read and write: the C structs.
+pub trait CAccess: StepAccess<P = rsl_sphere, State = rsl_contact_state> {}
+
+impl<A: StepAccess<P = rsl_sphere, State = rsl_contact_state>> CAccess for A {}
+
+fn scalar_f64<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
+    step_kernel::<f64, S, A, _>(m, dt, a, PortableCopy)
 }
 
-fn scalar_f32<const S: u8, A: StepAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
-    step_kernel::<f32, S, A>(m, dt, a)
+fn scalar_f32<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
+    step_kernel::<f32, S, A, _>(m, dt, a, PortableCopy)
 }
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::*;
+    use crate::capi::transpose::{Avx2Copy, Avx512Copy};
     use simba::simd::{AutoF32x8, AutoF64x8};
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn avx2_f64<const S: u8, A: StepAccess>(
+    pub(super) unsafe fn avx2_f64<const S: u8, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
@@ -358,40 +364,44 @@ mod x86 {
         // measured in cache on the full LAMMPS set: 34 ns per contact against 36-41 with four
         // lanes (edited builds, same bench driver). Before the staging, four lanes were the
         // faster (41 against 49).
-        step_kernel::<AutoF64x8, S, A>(m, dt, a)
+        // SAFETY: the caller guarantees AVX2.
+        step_kernel::<AutoF64x8, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
     }
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn avx2_f32<const S: u8, A: StepAccess>(
+    pub(super) unsafe fn avx2_f32<const S: u8, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        step_kernel::<AutoF32x8, S, A>(m, dt, a)
+        // SAFETY: the caller guarantees AVX2.
+        step_kernel::<AutoF32x8, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
     }
 
     /// # Safety
     /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn avx512_f64<const S: u8, A: StepAccess>(
+    pub(super) unsafe fn avx512_f64<const S: u8, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        step_kernel::<AutoF64x8, S, A>(m, dt, a)
+        // SAFETY: the caller guarantees AVX-512 F/DQ.
+        step_kernel::<AutoF64x8, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
     }
 
     /// # Safety
     /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn avx512_f32<const S: u8, A: StepAccess>(
+    pub(super) unsafe fn avx512_f32<const S: u8, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        step_kernel::<AutoF32x8, S, A>(m, dt, a)
+        // SAFETY: the caller guarantees AVX-512 F/DQ.
+        step_kernel::<AutoF32x8, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
     }
 
     /// # Safety
@@ -446,7 +456,7 @@ macro_rules! by_scene {
 /// Steps every contact of `access` with the kernel of `config` (safe: the SIMD level is
 /// re-checked against the CPU). Returns the report and the scene that ran. The model and time
 /// step are validated here; a call-level error processes nothing.
-pub fn run_step<A: StepAccess>(
+pub fn run_step<A: CAccess>(
     model: &Model,
     dt: f64,
     access: &mut A,
@@ -526,7 +536,7 @@ unsafe fn slice_in<'a, T>(p: *const T, n: usize, name: &'static str) -> Result<&
         return Err(FfiError::Misaligned(name));
     }
     if n.checked_mul(std::mem::size_of::<T>())
-        .map_or(true, |bytes| bytes > isize::MAX as usize)
+        .is_none_or(|bytes| bytes > isize::MAX as usize)
     {
         return Err(FfiError::Core(Error::InvalidArgument(format!(
             "{name}: array length {n} too large"

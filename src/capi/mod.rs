@@ -11,6 +11,7 @@ pub mod decompose;
 mod finite;
 pub mod model;
 pub mod status;
+mod transpose;
 pub mod types;
 pub mod version;
 

@@ -1,0 +1,486 @@
+//! SIMD transpositions that move groups of eight contacts between the C structs (`rsl_sphere`,
+//! `rsl_contact_state`) and the batch kernel's rows (see `batch::block`).
+//!
+//! The kernel keeps its inputs in rows, one per quantity, so that each lane value is one vector
+//! load. Filling the rows value by value costs a load and a store per double: 33 doubles per
+//! contact in (two bodies and the state), 13 out. Here each struct is read as a few vectors and
+//! transposed in registers, so a group of eight contacts costs a handful of loads, shuffles and
+//! stores per quantity. Measured on the full LAMMPS law set, AVX-512, in cache: 27 against 31 ns
+//! per contact (edited builds of the benchmark driver). The copies are exact: every
+//! implementation here gives the rows and states of [`PortableCopy`] bit for bit (tested below).
+//!
+//! [`PortableCopy`]: crate::batch::PortableCopy
+
+use super::contact::rsl_contact_state;
+use super::types::rsl_sphere;
+use crate::batch::{GroupCopy, GroupRow, BODY_WORDS, GROUP, STATE_WORDS};
+use std::mem::{offset_of, size_of};
+
+// The transpositions read and write these structs as arrays of doubles: a sphere is its
+// `BODY_WORDS` doubles, a state starts with its `STATE_WORDS` doubles (then the slip flags).
+const _: () = assert!(size_of::<rsl_sphere>() == BODY_WORDS * 8);
+const _: () = assert!(offset_of!(rsl_sphere, radius) == (BODY_WORDS - 1) * 8);
+const _: () = assert!(offset_of!(rsl_contact_state, previous_normal) == (STATE_WORDS - 3) * 8);
+const _: () = assert!(offset_of!(rsl_contact_state, slip_flags) == STATE_WORDS * 8);
+const _: () = assert!(GROUP == 8);
+
+/// A pointer to the first double of `s` (valid for the whole struct, not just its first field).
+fn doubles<S>(s: &S) -> *const f64 {
+    (s as *const S).cast::<f64>()
+}
+
+/// [`GroupCopy`] with AVX2: 4 x 4 transpositions in ymm registers.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx2Copy(());
+
+impl Avx2Copy {
+    /// The copier, for a CPU known to have AVX2.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    pub(crate) unsafe fn assume() -> Self {
+        Avx2Copy(())
+    }
+}
+
+/// [`GroupCopy`] with AVX-512 F and DQ: 8 x 8 transpositions in zmm registers.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx512Copy(());
+
+impl Avx512Copy {
+    /// The copier, for a CPU known to have AVX-512 F and DQ.
+    ///
+    /// # Safety
+    /// The CPU must have AVX-512 F and DQ.
+    pub(crate) unsafe fn assume() -> Self {
+        Avx512Copy(())
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::GroupRow;
+    use std::arch::x86_64::*;
+
+    /// `t[i]` lane `j` = `w[j]` lane `i`.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn transpose4(w: [__m256d; 4]) -> [__m256d; 4] {
+        let a0 = _mm256_unpacklo_pd(w[0], w[1]);
+        let a1 = _mm256_unpackhi_pd(w[0], w[1]);
+        let a2 = _mm256_unpacklo_pd(w[2], w[3]);
+        let a3 = _mm256_unpackhi_pd(w[2], w[3]);
+        [
+            _mm256_permute2f128_pd::<0x20>(a0, a2),
+            _mm256_permute2f128_pd::<0x20>(a1, a3),
+            _mm256_permute2f128_pd::<0x31>(a0, a2),
+            _mm256_permute2f128_pd::<0x31>(a1, a3),
+        ]
+    }
+
+    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 4`.
+    ///
+    /// # Safety
+    /// Each `src[k]` points to at least `at + 4` readable doubles; the CPU has AVX2.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn words_to_rows(src: [*const f64; 8], at: usize, mut rows: [&mut GroupRow; 4]) {
+        for half in 0..2 {
+            // SAFETY: doubles `at..at + 4` of each source, inside the caller's bound.
+            let w: [__m256d; 4] =
+                std::array::from_fn(|j| unsafe { _mm256_loadu_pd(src[4 * half + j].add(at)) });
+            let t = transpose4(w);
+            for (row, v) in rows.iter_mut().zip(t) {
+                let dst: &mut [f64; 4] = (&mut row[4 * half..4 * half + 4])
+                    .try_into()
+                    .expect("four slots");
+                // SAFETY: `dst` is four writable doubles.
+                unsafe { _mm256_storeu_pd(dst.as_mut_ptr(), v) };
+            }
+        }
+    }
+
+    /// Double `at + i` of `dst[k]` = `rows[i][k]`, for `i < 4`.
+    ///
+    /// # Safety
+    /// Each `dst[k]` points to at least `at + 4` writable doubles, none overlapping another's
+    /// or the rows; the CPU has AVX2.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn rows_to_words(rows: [&GroupRow; 4], dst: [*mut f64; 8], at: usize) {
+        for half in 0..2 {
+            let w: [__m256d; 4] = std::array::from_fn(|i| {
+                let src: &[f64; 4] = rows[i][4 * half..4 * half + 4]
+                    .try_into()
+                    .expect("four slots");
+                // SAFETY: `src` is four readable doubles.
+                unsafe { _mm256_loadu_pd(src.as_ptr()) }
+            });
+            for (j, v) in transpose4(w).into_iter().enumerate() {
+                // SAFETY: doubles `at..at + 4` of a destination, inside the caller's bound.
+                unsafe { _mm256_storeu_pd(dst[4 * half + j].add(at), v) };
+            }
+        }
+    }
+
+    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 2`.
+    ///
+    /// # Safety
+    /// Each `src[k]` points to at least `at + 2` readable doubles; the CPU has AVX2.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn pairs_to_rows(src: [*const f64; 8], at: usize, mut rows: [&mut GroupRow; 2]) {
+        // SAFETY: doubles `at..at + 2` of a source, inside the caller's bound.
+        let pair = |k: usize| unsafe { _mm_loadu_pd(src[k].add(at)) };
+        for half in 0..2 {
+            let k = 4 * half;
+            // Contacts k and k + 2 in one register, k + 1 and k + 3 in the other.
+            let even = _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(pair(k)), pair(k + 2));
+            let odd = _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(pair(k + 1)), pair(k + 3));
+            for (row, v) in rows
+                .iter_mut()
+                .zip([_mm256_unpacklo_pd(even, odd), _mm256_unpackhi_pd(even, odd)])
+            {
+                let dst: &mut [f64; 4] = (&mut row[k..k + 4]).try_into().expect("four slots");
+                // SAFETY: `dst` is four writable doubles.
+                unsafe { _mm256_storeu_pd(dst.as_mut_ptr(), v) };
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx512 {
+    use super::GroupRow;
+    use std::arch::x86_64::*;
+
+    /// `t[i]` lane `j` = `w[j]` lane `i`.
+    #[inline]
+    #[target_feature(enable = "avx512f")]
+    fn transpose8(w: [__m512d; 8]) -> [__m512d; 8] {
+        // Pairs of rows interleaved: a[2m] holds even words, a[2m + 1] odd words of w[2m], w[2m+1].
+        let a: [__m512d; 8] = std::array::from_fn(|i| {
+            let (x, y) = (w[i & !1], w[i | 1]);
+            if i % 2 == 0 {
+                _mm512_unpacklo_pd(x, y)
+            } else {
+                _mm512_unpackhi_pd(x, y)
+            }
+        });
+        // 128-bit lanes 0 and 2 (words 0, 4 / 1, 5) or 1 and 3 (words 2, 6 / 3, 7) of two pairs.
+        let lo = |x, y| _mm512_shuffle_f64x2::<0b10_00_10_00>(x, y);
+        let hi = |x, y| _mm512_shuffle_f64x2::<0b11_01_11_01>(x, y);
+        let b = [
+            lo(a[0], a[2]),
+            lo(a[1], a[3]),
+            hi(a[0], a[2]),
+            hi(a[1], a[3]),
+            lo(a[4], a[6]),
+            lo(a[5], a[7]),
+            hi(a[4], a[6]),
+            hi(a[5], a[7]),
+        ];
+        [
+            lo(b[0], b[4]),
+            lo(b[1], b[5]),
+            lo(b[2], b[6]),
+            lo(b[3], b[7]),
+            hi(b[0], b[4]),
+            hi(b[1], b[5]),
+            hi(b[2], b[6]),
+            hi(b[3], b[7]),
+        ]
+    }
+
+    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 8`.
+    ///
+    /// # Safety
+    /// Each `src[k]` points to at least `at + 8` readable doubles; the CPU has AVX-512 F.
+    #[inline]
+    #[target_feature(enable = "avx512f")]
+    pub unsafe fn words_to_rows(src: [*const f64; 8], at: usize, rows: [&mut GroupRow; 8]) {
+        // SAFETY: doubles `at..at + 8` of each source, inside the caller's bound.
+        let w: [__m512d; 8] = std::array::from_fn(|k| unsafe { _mm512_loadu_pd(src[k].add(at)) });
+        for (row, v) in rows.into_iter().zip(transpose8(w)) {
+            // SAFETY: a row of a group is eight writable doubles.
+            unsafe { _mm512_storeu_pd(row.as_mut_ptr(), v) };
+        }
+    }
+
+    /// Double `at + i` of `dst[k]` = `rows[i][k]`, for `i < 8`.
+    ///
+    /// # Safety
+    /// Each `dst[k]` points to at least `at + 8` writable doubles, none overlapping another's
+    /// or the rows; the CPU has AVX-512 F.
+    #[inline]
+    #[target_feature(enable = "avx512f")]
+    pub unsafe fn rows_to_words(rows: [&GroupRow; 8], dst: [*mut f64; 8], at: usize) {
+        // SAFETY: a row of a group is eight readable doubles.
+        let w: [__m512d; 8] = std::array::from_fn(|i| unsafe { _mm512_loadu_pd(rows[i].as_ptr()) });
+        for (k, v) in transpose8(w).into_iter().enumerate() {
+            // SAFETY: doubles `at..at + 8` of a destination, inside the caller's bound.
+            unsafe { _mm512_storeu_pd(dst[k].add(at), v) };
+        }
+    }
+
+    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 2`.
+    ///
+    /// # Safety
+    /// Each `src[k]` points to at least `at + 2` readable doubles; the CPU has AVX-512 F, DQ.
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512dq")]
+    pub unsafe fn pairs_to_rows(src: [*const f64; 8], at: usize, rows: [&mut GroupRow; 2]) {
+        // SAFETY: doubles `at..at + 2` of a source, inside the caller's bound.
+        let pair = |k: usize| unsafe { _mm_loadu_pd(src[k].add(at)) };
+        // Contacts 0-3, then 4-7, two doubles each: [w0 w1 | w0 w1 | w0 w1 | w0 w1].
+        let four = |k: usize| {
+            let v = _mm512_castpd128_pd512(pair(k));
+            let v = _mm512_insertf64x2::<1>(v, pair(k + 1));
+            let v = _mm512_insertf64x2::<2>(v, pair(k + 2));
+            _mm512_insertf64x2::<3>(v, pair(k + 3))
+        };
+        let (x, y) = (four(0), four(4));
+        let first = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
+        let second = _mm512_set_epi64(15, 13, 11, 9, 7, 5, 3, 1);
+        let [row0, row1] = rows;
+        // SAFETY: a row of a group is eight writable doubles.
+        unsafe {
+            _mm512_storeu_pd(row0.as_mut_ptr(), _mm512_permutex2var_pd(x, first, y));
+            _mm512_storeu_pd(row1.as_mut_ptr(), _mm512_permutex2var_pd(x, second, y));
+        }
+    }
+}
+
+/// Pointers to the first double of each state, to write (each valid for its whole struct).
+fn doubles_mut(states: &mut [rsl_contact_state; GROUP]) -> [*mut f64; GROUP] {
+    states
+        .each_mut()
+        .map(|s| (s as *mut rsl_contact_state).cast::<f64>())
+}
+
+#[cfg(target_arch = "x86_64")]
+impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
+    #[inline(always)]
+    fn bodies(self, bodies: [&rsl_sphere; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
+        let src = bodies.map(doubles);
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
+        // SAFETY: an `Avx2Copy` exists only on a CPU with AVX2 (`Avx2Copy::assume`); each
+        // pointer comes from a reference to a whole sphere, `BODY_WORDS` = 10 doubles (asserted
+        // above): words 0..4, 4..8 and 8..10 are inside it.
+        unsafe {
+            avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
+            avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
+            avx2::pairs_to_rows(src, 8, [r8, r9]);
+        }
+    }
+
+    #[inline(always)]
+    fn states(self, states: [&rsl_contact_state; GROUP], rows: [&mut GroupRow; STATE_WORDS]) {
+        let src = states.map(doubles);
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+        // SAFETY: as in `bodies`; a state starts with `STATE_WORDS` = 13 doubles (asserted
+        // above): words 0..4, 4..8, 8..12 and 9..13 are inside them. Rows 9..12 are written
+        // twice with the same values.
+        unsafe {
+            avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
+            avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
+            avx2::words_to_rows(src, 8, [r8, &mut *r9, &mut *r10, &mut *r11]);
+            avx2::words_to_rows(src, 9, [r9, r10, r11, r12]);
+        }
+    }
+
+    #[inline(always)]
+    fn store_states(
+        self,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        states: &mut [rsl_contact_state; GROUP],
+    ) {
+        let dst = doubles_mut(states);
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+        // SAFETY: as in `bodies`; each pointer comes from a distinct `&mut` state (so they do
+        // not overlap each other or the rows) whose first 13 doubles are words 0..4, 4..8,
+        // 8..12 and 9..13 (the last written twice with the same values).
+        unsafe {
+            avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
+            avx2::rows_to_words([r4, r5, r6, r7], dst, 4);
+            avx2::rows_to_words([r8, r9, r10, r11], dst, 8);
+            avx2::rows_to_words([r9, r10, r11, r12], dst, 9);
+        }
+        for (state, &flags) in states.iter_mut().zip(slip) {
+            state.slip_flags = flags;
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
+    #[inline(always)]
+    fn bodies(self, bodies: [&rsl_sphere; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
+        let src = bodies.map(doubles);
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
+        // SAFETY: an `Avx512Copy` exists only on a CPU with AVX-512 F and DQ
+        // (`Avx512Copy::assume`); each pointer comes from a reference to a whole sphere,
+        // `BODY_WORDS` = 10 doubles (asserted above): words 0..8 and 8..10 are inside it.
+        unsafe {
+            avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, r5, r6, r7]);
+            avx512::pairs_to_rows(src, 8, [r8, r9]);
+        }
+    }
+
+    #[inline(always)]
+    fn states(self, states: [&rsl_contact_state; GROUP], rows: [&mut GroupRow; STATE_WORDS]) {
+        let src = states.map(doubles);
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+        // SAFETY: as in `bodies`; a state starts with `STATE_WORDS` = 13 doubles (asserted
+        // above): words 0..8 and 5..13 are inside them. Rows 5..8 are written twice with the
+        // same values.
+        unsafe {
+            avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, &mut *r5, &mut *r6, &mut *r7]);
+            avx512::words_to_rows(src, 5, [r5, r6, r7, r8, r9, r10, r11, r12]);
+        }
+    }
+
+    #[inline(always)]
+    fn store_states(
+        self,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        states: &mut [rsl_contact_state; GROUP],
+    ) {
+        let dst = doubles_mut(states);
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+        // SAFETY: as in `bodies`; each pointer comes from a distinct `&mut` state (so they do
+        // not overlap each other or the rows) whose first 13 doubles are words 0..8 and 5..13
+        // (5..8 written twice with the same values).
+        unsafe {
+            avx512::rows_to_words([r0, r1, r2, r3, r4, r5, r6, r7], dst, 0);
+            avx512::rows_to_words([r5, r6, r7, r8, r9, r10, r11, r12], dst, 5);
+        }
+        for (state, &flags) in states.iter_mut().zip(slip) {
+            state.slip_flags = flags;
+        }
+    }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use crate::batch::PortableCopy;
+    use crate::capi::batch::Simd;
+    use crate::capi::types::rsl_vec3;
+
+    /// Distinct doubles (none repeated, so a misplaced word shows), including signed zeros and
+    /// subnormals which must be copied bit for bit.
+    fn value(i: usize) -> f64 {
+        match i % 7 {
+            0 => -0.0,
+            1 => f64::MIN_POSITIVE / 3.0 * i as f64,
+            _ => (i as f64 * 0.618_033_988_749_895).sin() * 10f64.powi((i % 5) as i32 - 2),
+        }
+    }
+
+    fn vec3(i: usize) -> rsl_vec3 {
+        rsl_vec3 {
+            x: value(i),
+            y: value(i + 1),
+            z: value(i + 2),
+        }
+    }
+
+    fn spheres() -> Vec<rsl_sphere> {
+        (0..GROUP)
+            .map(|k| rsl_sphere {
+                position: vec3(100 * k),
+                velocity: vec3(100 * k + 3),
+                angular_velocity: vec3(100 * k + 6),
+                radius: value(100 * k + 9),
+            })
+            .collect()
+    }
+
+    fn states() -> Vec<rsl_contact_state> {
+        (0..GROUP)
+            .map(|k| rsl_contact_state {
+                sliding_spring: vec3(1000 + 100 * k),
+                rolling_spring: vec3(1003 + 100 * k),
+                twisting_angle: value(1006 + 100 * k),
+                twisting_offaxis: vec3(1007 + 100 * k),
+                previous_normal: vec3(1010 + 100 * k),
+                slip_flags: 7,
+                reserved: 0xdead_beef,
+            })
+            .collect()
+    }
+
+    fn bits<const Q: usize>(rows: &[GroupRow; Q]) -> Vec<u64> {
+        rows.iter().flatten().map(|v| v.to_bits()).collect()
+    }
+
+    fn state_bits(s: &[rsl_contact_state]) -> Vec<(Vec<u64>, u32, u32)> {
+        s.iter()
+            .map(|s| {
+                let v = [
+                    s.sliding_spring,
+                    s.rolling_spring,
+                    s.twisting_offaxis,
+                    s.previous_normal,
+                ];
+                let mut w: Vec<u64> = v
+                    .iter()
+                    .flat_map(|v| [v.x, v.y, v.z])
+                    .map(f64::to_bits)
+                    .collect();
+                w.push(s.twisting_angle.to_bits());
+                (w, s.slip_flags, s.reserved)
+            })
+            .collect()
+    }
+
+    /// What `copy` puts in the rows and the states, for comparison with [`PortableCopy`].
+    #[allow(clippy::type_complexity)]
+    fn run<X: GroupCopy<rsl_sphere, rsl_contact_state>>(
+        copy: X,
+    ) -> (Vec<u64>, Vec<u64>, Vec<(Vec<u64>, u32, u32)>) {
+        let spheres = spheres();
+        let states = states();
+        let mut body_rows = [[f64::NAN; GROUP]; BODY_WORDS];
+        copy.bodies(std::array::from_fn(|k| &spheres[k]), body_rows.each_mut());
+        let mut state_rows = [[f64::NAN; GROUP]; STATE_WORDS];
+        copy.states(std::array::from_fn(|k| &states[k]), state_rows.each_mut());
+        // Write back rows that differ from the states read (reversed contacts), new slip bits.
+        let reversed: [GroupRow; STATE_WORDS] = state_rows.map(|mut r| {
+            r.reverse();
+            r
+        });
+        let mut out: [rsl_contact_state; GROUP] = states.clone().try_into().expect("a group");
+        let slip = [1, 2, 3, 4, 5, 6, 7, 0];
+        copy.store_states(reversed.each_ref(), &slip, &mut out);
+        (bits(&body_rows), bits(&state_rows), state_bits(&out))
+    }
+
+    #[test]
+    fn transpositions_copy_as_the_portable_copy_does() {
+        let expected = run(PortableCopy);
+        // The portable copy itself: row q, slot k is word q of contact k.
+        let spheres = spheres();
+        assert_eq!(expected.0[9 * GROUP + 3], spheres[3].radius.to_bits());
+        assert_eq!(expected.0[GROUP + 5], spheres[5].position.y.to_bits());
+        let mut ran = 0;
+        if Simd::Avx2.available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            assert_eq!(run(unsafe { Avx2Copy::assume() }), expected, "AVX2");
+            ran += 1;
+        }
+        if Simd::Avx512.available() {
+            // SAFETY: the CPU has AVX-512 F and DQ (checked just above).
+            assert_eq!(run(unsafe { Avx512Copy::assume() }), expected, "AVX-512");
+            ran += 1;
+        }
+        if ran < 2 {
+            eprintln!(
+                "transposition test: {ran} of the 2 SIMD copies ran (this CPU lacks the others)"
+            );
+        }
+    }
+}
