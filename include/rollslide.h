@@ -13,26 +13,15 @@
 #include <stdint.h>
 #include <stddef.h>
 
-// Slip bit of the sliding limit (same value as `RSL_SLIP_SLIDING`).
-#define SLIP_SLIDING 1
-
-// Slip bit of the rolling limit.
-#define SLIP_ROLLING 2
-
-// Slip bit of the twisting limit.
-#define SLIP_TWISTING 4
-
-// The most lanes any [`Lanes`] type has (sizes the per-chunk scratch arrays).
-#define MAX_LANES 8
-
 // Precision: everything in double (default).
 #define RSL_PRECISION_F64 0
 
 // Precision: mixed single. Geometry (branch vector, distance, overlap, branch lengths) in
 // double from the double positions; rates, history transport and update, and loads in single;
 // histories stored in the caller's double state. Loses `v_r` to cancellation when
-// `|w| >> |w1 - w2|` (kinematics.md section 7) and carries single rounding (~6e-8 relative)
-// into the histories every step.
+// `|w| >> |w1 - w2|` (it is computed from `w1 - w2`, whose relative error in single is about
+// 6e-8 |w| / |w1 - w2|) and carries single rounding (~6e-8 relative) into the histories every
+// step.
 #define RSL_PRECISION_F32 1
 
 // SIMD: the widest level the CPU supports, in both precisions: AVX-512, then AVX2+FMA, then
@@ -802,9 +791,10 @@ int32_t rsl_contact_step_wall_accumulate(const struct rsl_model *model,
                                          struct rsl_vec3 *force,
                                          struct rsl_vec3 *torque);
 
-// Critical time step of velocity Verlet for a rotational spring-dashpot (models.md section 5):
-// `dt_c = (2/w0)(sqrt(1 + z^2) - z)`, `w0 = sqrt(k_theta (1/I1 + 1/I2))`. `inertia2` may be
-// +INFINITY for a wall. Writes `*out` on success.
+// Critical time step of velocity Verlet for a rotational spring-dashpot:
+// `dt_c = (2/w0)(sqrt(1 + z^2) - z)`, `w0 = sqrt(k_theta (1/I1 + 1/I2))`, with `z` the
+// `damping_ratio` (0: undamped). `inertia2` may be +INFINITY for a wall. Writes `*out` on
+// success.
 //
 // # Safety
 // `out` must be NULL or writable.
@@ -814,7 +804,7 @@ int32_t rsl_rotational_critical_time_step(double k_theta,
                                           double damping_ratio,
                                           double *out);
 
-// Stable step bound with sliding and rotational springs coupled (models.md section 5):
+// Stable step bound with sliding and rotational springs coupled (undamped):
 // `2/sqrt(k_t (1/m1 + 1/m2 + l1^2/I1 + l2^2/I2) + k_theta (1/I1 + 1/I2))`. Body 2's mass and
 // inertia may be +INFINITY for a wall. Writes `*out` on success.
 //

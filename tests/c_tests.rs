@@ -154,8 +154,14 @@ fn main() {
         let src = work2.join("header_cxx.cpp");
         std::fs::write(
             &src,
+            // A host's own names that an unprefixed header name would clash with (the
+            // header once declared `enum Scene { Generic, ... }`, `MAX_LANES`, `SLIP_*`).
             "#include \"rollslide.h\"\n#include <cstring>\n\
+             enum Scene { Generic, FullExact };\n\
+             static const int MAX_LANES = 4, SLIP_SLIDING = 8, SLIP_ROLLING = 16;\n\
              int main() { rsl_vec3 v = {1.0, 2.0, 3.0}; (void)v;\n\
+             Scene s = FullExact;\n\
+             if (s == Generic || MAX_LANES + SLIP_SLIDING + SLIP_ROLLING != 28) return 2;\n\
              return std::strlen(rsl_version()) > 0 ? 0 : 1; }\n",
         )
         .unwrap();

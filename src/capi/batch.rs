@@ -36,8 +36,9 @@ pub const RSL_PRECISION_F64: u32 = 0;
 /// Precision: mixed single. Geometry (branch vector, distance, overlap, branch lengths) in
 /// double from the double positions; rates, history transport and update, and loads in single;
 /// histories stored in the caller's double state. Loses `v_r` to cancellation when
-/// `|w| >> |w1 - w2|` (kinematics.md section 7) and carries single rounding (~6e-8 relative)
-/// into the histories every step.
+/// `|w| >> |w1 - w2|` (it is computed from `w1 - w2`, whose relative error in single is about
+/// 6e-8 |w| / |w1 - w2|) and carries single rounding (~6e-8 relative) into the histories every
+/// step.
 pub const RSL_PRECISION_F32: u32 = 1;
 
 /// SIMD: the widest level the CPU supports, in both precisions: AVX-512, then AVX2+FMA, then

@@ -991,9 +991,10 @@ pub unsafe extern "C" fn rsl_contact_step_wall_accumulate(
     unsafe { wall_step_reporting(model, sphere, wall, contact, state, sink) }
 }
 
-/// Critical time step of velocity Verlet for a rotational spring-dashpot (models.md section 5):
-/// `dt_c = (2/w0)(sqrt(1 + z^2) - z)`, `w0 = sqrt(k_theta (1/I1 + 1/I2))`. `inertia2` may be
-/// +INFINITY for a wall. Writes `*out` on success.
+/// Critical time step of velocity Verlet for a rotational spring-dashpot:
+/// `dt_c = (2/w0)(sqrt(1 + z^2) - z)`, `w0 = sqrt(k_theta (1/I1 + 1/I2))`, with `z` the
+/// `damping_ratio` (0: undamped). `inertia2` may be +INFINITY for a wall. Writes `*out` on
+/// success.
 ///
 /// # Safety
 /// `out` must be NULL or writable.
@@ -1013,7 +1014,7 @@ pub unsafe extern "C" fn rsl_rotational_critical_time_step(
     })
 }
 
-/// Stable step bound with sliding and rotational springs coupled (models.md section 5):
+/// Stable step bound with sliding and rotational springs coupled (undamped):
 /// `2/sqrt(k_t (1/m1 + 1/m2 + l1^2/I1 + l2^2/I2) + k_theta (1/I1 + 1/I2))`. Body 2's mass and
 /// inertia may be +INFINITY for a wall. Writes `*out` on success.
 ///
