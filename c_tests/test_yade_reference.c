@@ -243,7 +243,7 @@ void test_yade_preset_accuracy_against_mp150(void) {
 /* The default objective mode with YADE's parameters (angle form: k_theta = kr, eta = the rolling
  * limit length; twisting sds) gives YADE's rolling and twisting moments where the normal does
  * not rotate (fixed centres: gear, slide, twist cases), to rounding; elsewhere it differs by
- * YADE's first-order transport error, printed as the table in README.md. */
+ * YADE's first-order transport error, printed as the table in docs/validation.md. */
 void test_yade_objective_mode_agrees_where_normals_are_fixed(void) {
     csv_file c;
     if (!csv_open(&c, "yade_mp150.csv")) return;

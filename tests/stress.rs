@@ -385,7 +385,7 @@ fn large_equal_spins_keep_the_rolling_velocity_of_their_difference() {
 /// error of `v_r` for |w| = 1e4, |dw| = 1e-3 (kinematics.md section 7). The inputs are rounded
 /// to f32 first, as a host with f32 angular velocities would have them: each component of w1
 /// and w2 then carries up to half an f32 ulp of 1e4 (4.9e-4), which is the error of `dw` itself.
-/// The measured figure is written in README's Guarantees section.
+/// The measured figure is written in docs/guarantees.md (Precision).
 #[test]
 fn f32_rolling_velocity_loses_the_spin_difference_as_documented() {
     let mut rng = Rng::new(0xf32);

@@ -4,7 +4,7 @@
 //! whatever target features the enclosing function enables (SSE2 by default, AVX2 or AVX-512
 //! inside the `#[target_feature]` wrappers of `capi::batch`). simba's `Wide*` packs were not
 //! used: they pick their instructions from compile-time target features, so a default build
-//! runs them on 128-bit SSE2 even on an AVX-512 machine (see README, Performance).
+//! runs them on 128-bit SSE2 even on an AVX-512 machine.
 
 use crate::scalar::Real;
 use simba::simd::{AutoF32x8, AutoF64x4, AutoF64x8, AutoSimd};

@@ -129,7 +129,7 @@ pub struct rsl_batch_loads {
 }
 
 /// Prefetches the cache line holding `*p` into L2 (`PREFETCHT1`; no-op off x86-64). Measured
-/// at 1M contacts (README, Performance): into L2 51 ns/contact, into L1 (`T0`) 69: the lines
+/// at 1M contacts with an earlier kernel: into L2 51 ns/contact, into L1 (`T0`) 69: the lines
 /// of 48 contacts ahead crowd L1.
 #[inline(always)]
 fn prefetch<T>(p: &T) {
