@@ -1,7 +1,8 @@
 //! Compiles the C test programs of `c_tests/` with the `cc` crate (`-std=c11 -Wall -Wextra
 //! -Werror`), links them against the static library that `cargo test` just built, and reports
 //! each C test function (listed in `c_tests/tests.def`) as its own test. Also compiles the
-//! header as C++ and the C snippet of README.md.
+//! header as C++, the C++ wrapper's tests (`c_tests/test_wrapper.cpp`) and the C snippet of
+//! README.md.
 
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::{Path, PathBuf};
@@ -179,6 +180,45 @@ fn main() {
         run(Command::new(&out), "running the C++ program")?;
         Ok(())
     }));
+
+    // The C++ wrapper: C++11 and C++17, g++ (the cc crate's C++ compiler) and clang++ where it
+    // is installed (`.ci/run` installs it).
+    let clang = Command::new("clang++").arg("--version").output().is_ok();
+    for (name, std) in [("cpp_wrapper_cxx11", "c++11"), ("cpp_wrapper_cxx17", "c++17")] {
+        for use_clang in [false, true] {
+            let work4 = work.clone();
+            let label = format!("{name}_{}", if use_clang { "clang" } else { "gcc" });
+            // Without clang++ its trials are listed as ignored (run them with
+            // `--include-ignored` to see the error).
+            let trial = Trial::test(label.clone(), move || {
+                if use_clang && !clang {
+                    return Err("clang++ is not installed (apt-get install clang)".into());
+                }
+                let exe = work4.join(&label);
+                let mut cmd = if use_clang {
+                    Command::new("clang++")
+                } else {
+                    compiler(true).to_command()
+                };
+                cmd.arg(format!("-std={std}"))
+                    .args(["-O1", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+                    .arg("-I")
+                    .arg(root().join("include"))
+                    .arg(root().join("c_tests/test_wrapper.cpp"))
+                    .arg(static_library())
+                    .args(NATIVE_LIBS)
+                    .arg("-o")
+                    .arg(&exe);
+                run(cmd, &format!("compiling rollslide.hpp's test ({label})"))?;
+                let printed = run(Command::new(&exe), &label)?;
+                if !printed.contains("all checks passed") {
+                    return Err(format!("{label} printed:\n{printed}").into());
+                }
+                Ok(())
+            });
+            trials.push(trial.with_ignored_flag(use_clang && !clang));
+        }
+    }
 
     let work3 = work.clone();
     trials.push(Trial::test(

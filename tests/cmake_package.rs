@@ -185,6 +185,11 @@ fn cmake_build_ctest_install_examples_and_pkg_config() {
         std::fs::read(root().join("include/rollslide.h")).unwrap(),
         "installed header differs from include/rollslide.h"
     );
+    assert_eq!(
+        std::fs::read(prefix.join("include/rollslide.hpp")).unwrap(),
+        std::fs::read(root().join("include/rollslide.hpp")).unwrap(),
+        "installed C++ wrapper differs from include/rollslide.hpp"
+    );
     let config =
         std::fs::read_to_string(lib.join("cmake/rollslide/rollslideConfig.cmake")).unwrap();
     let carried: Vec<String> = pinned_native_libs()
@@ -253,7 +258,7 @@ fn cmake_build_ctest_install_examples_and_pkg_config() {
             .arg("--build")
             .arg(&dir)
             .args(["--parallel", "2"]));
-        for exe in ["decompose", "decompose_cpp", "rolling_on_wall", "dem_heap"] {
+        for exe in ["decompose", "decompose_cpp", "rolling_pair", "rolling_on_wall", "dem_heap"] {
             let deps = needed(&dir.join(exe));
             let shared = deps.iter().any(|d| d == &soname);
             assert_eq!(
