@@ -184,7 +184,10 @@ fn main() {
     // The C++ wrapper: C++11 and C++17, g++ (the cc crate's C++ compiler) and clang++ where it
     // is installed (`.ci/run` installs it).
     let clang = Command::new("clang++").arg("--version").output().is_ok();
-    for (name, std) in [("cpp_wrapper_cxx11", "c++11"), ("cpp_wrapper_cxx17", "c++17")] {
+    for (name, std) in [
+        ("cpp_wrapper_cxx11", "c++11"),
+        ("cpp_wrapper_cxx17", "c++17"),
+    ] {
         for use_clang in [false, true] {
             let work4 = work.clone();
             let label = format!("{name}_{}", if use_clang { "clang" } else { "gcc" });
