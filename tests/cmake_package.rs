@@ -258,7 +258,13 @@ fn cmake_build_ctest_install_examples_and_pkg_config() {
             .arg("--build")
             .arg(&dir)
             .args(["--parallel", "2"]));
-        for exe in ["decompose", "decompose_cpp", "rolling_pair", "rolling_on_wall", "dem_heap"] {
+        for exe in [
+            "decompose",
+            "decompose_cpp",
+            "rolling_pair",
+            "rolling_on_wall",
+            "dem_heap",
+        ] {
             let deps = needed(&dir.join(exe));
             let shared = deps.iter().any(|d| d == &soname);
             assert_eq!(
