@@ -14,6 +14,7 @@
  * model" case is tested with a zeroed buffer and with a buffer of 0xA5 bytes instead. */
 #include "rollslide.h" /* first: the header must compile on its own */
 
+#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -497,15 +498,26 @@ void test_bad_input_wall_geometry(void) {
     bw.normal = rsl_test_vec(0, 0, 0);
     FAIL_OUT(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_ERR_INVALID_ARGUMENT, "wall normal",
              &out, "zero wall normal");
+    /* Any finite non-zero length is accepted (the header: "any non-zero length"), also where
+     * the squared length under- or overflows: the same decomposition as the unit normal (its
+     * components divide exactly here), or within 4 eps for a direction that does not. */
+    rsl_decomposition unit_out, tilted_out;
+    CHECK_STATUS(rsl_decompose_wall(&s, &w, NULL, &unit_out), RSL_OK);
     bw.normal = rsl_test_vec(0, 0, 1e-320); /* subnormal: its norm underflows to 0 */
-    FAIL_OUT(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_ERR_INVALID_ARGUMENT, "wall normal",
-             &out, "subnormal wall normal");
-    bw.normal = rsl_test_vec(1e-160, 5e-315, 0); /* its square underflows: not unit */
-    FAIL_OUT(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_ERR_INVALID_ARGUMENT, "wall normal",
-             &out, "tiny wall normal");
-    bw.normal = rsl_test_vec(1e308, 1e308, 0); /* its norm overflows */
-    FAIL_OUT(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_ERR_INVALID_ARGUMENT, "wall normal",
-             &out, "huge wall normal");
+    CHECK_STATUS(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_OK);
+    CHECK(memcmp(&out, &unit_out, sizeof out) == 0);
+    bw.normal = rsl_test_vec(0, 0, 1e300); /* its square overflows */
+    CHECK_STATUS(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_OK);
+    CHECK(memcmp(&out, &unit_out, sizeof out) == 0);
+    bw.normal = rsl_test_vec(0, 1, 1);
+    CHECK_STATUS(rsl_decompose_wall(&s, &bw, NULL, &tilted_out), RSL_OK);
+    bw.normal = rsl_test_vec(0, 1e308, 1e308); /* its norm itself overflows */
+    CHECK_STATUS(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_OK);
+    CHECK(memcmp(&out, &tilted_out, sizeof out) == 0);
+    bw.normal = rsl_test_vec(5e-315, 1e-160, 1e-160); /* its square underflows */
+    CHECK_STATUS(rsl_decompose_wall(&s, &bw, NULL, &out), RSL_OK);
+    CHECK_VEC(out.normal, tilted_out.normal.x, tilted_out.normal.y, tilted_out.normal.z,
+              4 * DBL_EPSILON);
     bad = s;
     bad.radius = 0.0;
     FAIL_OUT(rsl_decompose_wall(&bad, &w, NULL, &out), RSL_ERR_INVALID_RADIUS, "radius", &out,
@@ -766,7 +778,7 @@ void test_bad_input_contact_step_every_field_and_pointer(void) {
     FAIL_STEP(rsl_contact_step(NULL, &a, &b, &in, &st, &out), RSL_ERR_NULL_POINTER, "model", "NULL model");
     FAIL_STEP(rsl_contact_step(m, NULL, &b, &in, &st, &out), RSL_ERR_NULL_POINTER, "body1", "NULL body1");
     FAIL_STEP(rsl_contact_step(m, &a, NULL, &in, &st, &out), RSL_ERR_NULL_POINTER, "body2", "NULL body2");
-    FAIL_STEP(rsl_contact_step(m, &a, &b, NULL, &st, &out), RSL_ERR_NULL_POINTER, "input", "NULL input");
+    FAIL_STEP(rsl_contact_step(m, &a, &b, NULL, &st, &out), RSL_ERR_NULL_POINTER, "null pointer: contact", "NULL contact");
     memset(&out, PATTERN, sizeof out);
     check_failure(rsl_contact_step(m, &a, &b, &in, NULL, &out), RSL_ERR_NULL_POINTER, "state",
                   &out, sizeof out, NULL, NULL, 0, "NULL state", __FILE__, __LINE__);
@@ -778,7 +790,7 @@ void test_bad_input_contact_step_every_field_and_pointer(void) {
     FAIL_STEP(rsl_contact_step(MIS(rsl_model), &a, &b, &in, &st, &out), RSL_ERR_MISALIGNED, "model", "mis model");
     FAIL_STEP(rsl_contact_step(m, MIS(rsl_sphere), &b, &in, &st, &out), RSL_ERR_MISALIGNED, "body1", "mis body1");
     FAIL_STEP(rsl_contact_step(m, &a, MIS(rsl_sphere), &in, &st, &out), RSL_ERR_MISALIGNED, "body2", "mis body2");
-    FAIL_STEP(rsl_contact_step(m, &a, &b, MIS(rsl_contact_input), &st, &out), RSL_ERR_MISALIGNED, "input", "mis input");
+    FAIL_STEP(rsl_contact_step(m, &a, &b, MIS(rsl_contact_input), &st, &out), RSL_ERR_MISALIGNED, "misaligned pointer: contact", "mis contact");
     memset(&out, PATTERN, sizeof out);
     check_failure(rsl_contact_step(m, &a, &b, &in, MIS(rsl_contact_state), &out),
                   RSL_ERR_MISALIGNED, "state", &out, sizeof out, NULL, NULL, 0, "mis state",
@@ -886,7 +898,7 @@ void test_bad_input_contact_step_wall_every_field_and_pointer(void) {
     FAIL_STEP(rsl_contact_step_wall(NULL, &s, &w, &in, &st, &out), RSL_ERR_NULL_POINTER, "model", "wall NULL model");
     FAIL_STEP(rsl_contact_step_wall(m, NULL, &w, &in, &st, &out), RSL_ERR_NULL_POINTER, "sphere", "wall NULL sphere");
     FAIL_STEP(rsl_contact_step_wall(m, &s, NULL, &in, &st, &out), RSL_ERR_NULL_POINTER, "wall", "wall NULL wall");
-    FAIL_STEP(rsl_contact_step_wall(m, &s, &w, NULL, &st, &out), RSL_ERR_NULL_POINTER, "input", "wall NULL input");
+    FAIL_STEP(rsl_contact_step_wall(m, &s, &w, NULL, &st, &out), RSL_ERR_NULL_POINTER, "null pointer: contact", "wall NULL contact");
     memset(&out, PATTERN, sizeof out);
     check_failure(rsl_contact_step_wall(m, &s, &w, &in, NULL, &out), RSL_ERR_NULL_POINTER, "state",
                   &out, sizeof out, NULL, NULL, 0, "wall NULL state", __FILE__, __LINE__);
@@ -897,7 +909,7 @@ void test_bad_input_contact_step_wall_every_field_and_pointer(void) {
     FAIL_STEP(rsl_contact_step_wall(MIS(rsl_model), &s, &w, &in, &st, &out), RSL_ERR_MISALIGNED, "model", "wall mis model");
     FAIL_STEP(rsl_contact_step_wall(m, MIS(rsl_sphere), &w, &in, &st, &out), RSL_ERR_MISALIGNED, "sphere", "wall mis sphere");
     FAIL_STEP(rsl_contact_step_wall(m, &s, MIS(rsl_wall), &in, &st, &out), RSL_ERR_MISALIGNED, "wall", "wall mis wall");
-    FAIL_STEP(rsl_contact_step_wall(m, &s, &w, MIS(rsl_contact_input), &st, &out), RSL_ERR_MISALIGNED, "input", "wall mis input");
+    FAIL_STEP(rsl_contact_step_wall(m, &s, &w, MIS(rsl_contact_input), &st, &out), RSL_ERR_MISALIGNED, "misaligned pointer: contact", "wall mis contact");
     CHECK_STATUS(rsl_contact_step_wall(m, &s, &w, &in, MIS(rsl_contact_state), &out), RSL_ERR_MISALIGNED);
     CHECK_STATUS(rsl_contact_step_wall(m, &s, &w, &in, &st, MIS(rsl_contact_loads)), RSL_ERR_MISALIGNED);
     CHECK(memcmp(&st, &kept, sizeof st) == 0);
@@ -1088,7 +1100,7 @@ void test_bad_input_contact_step_accumulate_mirrors_contact_step(void) {
     ACC_FAILS(rsl_contact_step_accumulate(NULL, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "model");
     ACC_FAILS(rsl_contact_step_accumulate(m, NULL, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "body1");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, NULL, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "body2");
-    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, NULL, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "input");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, NULL, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "null pointer: contact");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, NULL, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "state");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, NULL, &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "force1");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], NULL, &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "torque1");
@@ -1097,7 +1109,7 @@ void test_bad_input_contact_step_accumulate_mirrors_contact_step(void) {
     ACC_FAILS(rsl_contact_step_accumulate(MIS(rsl_model), &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "model");
     ACC_FAILS(rsl_contact_step_accumulate(m, MIS(rsl_sphere), &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "body1");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, MIS(rsl_sphere), &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "body2");
-    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, MIS(rsl_contact_input), &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "input");
+    ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, MIS(rsl_contact_input), &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "misaligned pointer: contact");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, MIS(rsl_contact_state), &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "state");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, MIS(rsl_vec3), &acc[1], &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "force1");
     ACC_FAILS(rsl_contact_step_accumulate(m, &a, &b, &in, &st, &acc[0], MIS(rsl_vec3), &acc[2], &acc[3]), RSL_ERR_MISALIGNED, "torque1");
@@ -1106,7 +1118,8 @@ void test_bad_input_contact_step_accumulate_mirrors_contact_step(void) {
     ACC_FAILS(rsl_contact_step_wall_accumulate(NULL, &s, &w, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "model");
     ACC_FAILS(rsl_contact_step_wall_accumulate(m, NULL, &w, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "sphere");
     ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, NULL, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "wall");
-    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, NULL, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "input");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, NULL, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "null pointer: contact");
+    ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, MIS(rsl_contact_input), &st, &acc[0], &acc[1]), RSL_ERR_MISALIGNED, "misaligned pointer: contact");
     ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, NULL, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "state");
     ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, &st, NULL, &acc[1]), RSL_ERR_NULL_POINTER, "force");
     ACC_FAILS(rsl_contact_step_wall_accumulate(m, &s, &w, &in, &st, &acc[0], NULL), RSL_ERR_NULL_POINTER, "torque");

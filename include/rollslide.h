@@ -615,14 +615,17 @@ extern "C" {
 // be NULL otherwise. `options` may be NULL (double, best SIMD). `report` may be NULL.
 //
 // Same physics as `rsl_contact_step` with `normal_force` and `dt` set (no per-contact
-// parameter overrides, no limit force, no setup pass, no energy terms beyond what the model
-// tracks internally); a model with damping-ratio rolling damping is refused.
+// parameter overrides, no limit force, no setup pass); a model with damping-ratio rolling
+// damping is refused. The energy terms are not returned: a model that tracks energy has them
+// computed and checked finite, as `rsl_contact_step` does (turn tracking off for the batch if
+// they are not wanted).
 //
 // Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
-// centres, branch <= 0, negative normal force, non-finite result) are skipped in the same
-// pass: their state and loads are not written; every other contact is processed. The call
-// then returns the status `rsl_contact_step` would give for the first skipped contact, and
-// `report` gives its index and the number skipped. `RSL_OK` means every contact was processed.
+// centres, branch <= 0, negative normal force, non-finite result, energy terms included) are
+// skipped in the same pass: their state and loads are not written; every other contact is
+// processed. The call then returns the status `rsl_contact_step` would give for the first
+// skipped contact, and `report` gives its index and the number skipped. `RSL_OK` means every
+// contact was processed.
 // Call-level errors (NULL array, invalid handle or model, dt, options) process nothing.
 //
 // # Safety
@@ -806,7 +809,10 @@ int32_t rsl_rotational_critical_time_step(double k_theta,
 
 // Stable step bound with sliding and rotational springs coupled (undamped):
 // `2/sqrt(k_t (1/m1 + 1/m2 + l1^2/I1 + l2^2/I2) + k_theta (1/I1 + 1/I2))`. Body 2's mass and
-// inertia may be +INFINITY for a wall. Writes `*out` on success.
+// inertia may be +INFINITY for a wall. `l2` is not read when `inertia2` is +INFINITY (its
+// term `l2^2/I2` is 0), so a wall's `l2` may be any value, the +INFINITY of its
+// `rsl_decomposition.branch2` included; otherwise it must be finite and > 0, as `l1`. Writes
+// `*out` on success.
 //
 // # Safety
 // `out` must be NULL or writable.

@@ -259,8 +259,30 @@ pub fn pair_geometry_in_range<T: Real>(
         & g.branch2.simd_gt(zero)
 }
 
+/// `v / |v|` for a finite `v` of any non-zero length, `None` for the zero vector. The plain
+/// `v / |v|` where it is accurate (its bits are kept there); where `|v|^2` overflows (`|v|`
+/// above ~1.3e154 in f64) or underflows into subnormal numbers (below ~1.5e-154: `|v|` is
+/// then inaccurate or 0), `v` is first divided by its largest absolute component, which
+/// brings the length to between 1 and `sqrt 3`.
+fn unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> Option<Vec3<T>> {
+    let len = v.norm();
+    if is_positive(len) && len.is_finite() {
+        let unit = v / len;
+        if is_unit(&unit) {
+            return Some(unit);
+        }
+    }
+    let largest = v.x.abs().max(v.y.abs()).max(v.z.abs());
+    if !is_positive(largest) {
+        return None;
+    }
+    let scaled = v / largest;
+    Some(scaled / scaled.norm())
+}
+
 /// Geometry of a sphere against a flat wall with every check: finite input, radius > 0, a
-/// non-zero wall normal (normalised here, so it need not be unit), `l1 > 0`.
+/// wall normal of any finite non-zero length (normalised here, overflow- and underflow-safe,
+/// so it need not be unit), `l1 > 0`.
 ///
 /// Returns the geometry and the unit wall normal.
 pub fn wall_geometry<T: RealField + Copy>(
@@ -274,19 +296,9 @@ pub fn wall_geometry<T: RealField + Copy>(
     check_radius(radius1, "radius of the sphere")?;
     check_finite_vec(wall_point, "wall point")?;
     check_finite_vec(wall_normal, "wall normal")?;
-    let len = wall_normal.norm();
-    if !is_positive(len) || !len.is_finite() {
-        return Err(Error::InvalidArgument(
-            "wall normal must be a non-zero vector".to_string(),
-        ));
-    }
-    let unit = wall_normal / len;
-    if !is_unit(&unit) {
-        return Err(Error::InvalidArgument(
-            "wall normal must be a non-zero vector longer than ~1.5e-154 (its square underflows)"
-                .to_string(),
-        ));
-    }
+    let unit = unit_vector(wall_normal).ok_or_else(|| {
+        Error::InvalidArgument("wall normal must be a non-zero vector".to_string())
+    })?;
     let g = wall_geometry_unchecked(r1, radius1, wall_point, &unit, options);
     if !g.overlap.is_finite() {
         return Err(Error::NonFinite("wall overlap (overflow)"));

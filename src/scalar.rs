@@ -5,6 +5,7 @@
 //! all instantiate the same code, so the per-contact and batch paths cannot drift apart.
 
 use nalgebra::{SimdRealField, Vector3};
+use simba::simd::SimdBool;
 
 /// A real number type the kinematics can be evaluated in: a scalar (`f32`, `f64`) or a SIMD
 /// pack of lanes (for example `simba::simd::WideF64x4`), one contact per lane.
@@ -51,6 +52,47 @@ pub fn mask<T: Real>(value: bool) -> T::SimdBool {
     } else {
         T::zero().simd_gt(T::zero())
     }
+}
+
+/// A vector's length recomputed where its square overflowed (see [`rescale_overflowed`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Rescaled<T> {
+    /// What the vector is divided by: its largest absolute component where `v . v` overflowed,
+    /// 1 in every other lane (dividing by it changes no bit there).
+    pub divisor: T,
+    /// `|v / divisor|`: between 1 and `sqrt 3` where the vector was rescaled, the given norm
+    /// in every other lane.
+    pub scaled_norm: T,
+    /// `|v|` itself, `divisor * scaled_norm`: +inf only where `|v|` exceeds the largest finite
+    /// value; the given norm in every other lane.
+    pub norm: T,
+}
+
+/// Where `norm` (that is `v.norm()`, `sqrt(v . v)`) overflowed to +inf, the lengths to use
+/// instead: `v . v` overflows from `|v|` about `1.3e154` in `f64` (`1.8e19` in `f32`), long
+/// before `v` itself does, and a clip `v * (limit / |v|)` or a direction `v / |v|` then gives
+/// zero. Returns `None` when no lane overflowed (the common case: `v` and `norm` are right as
+/// they are, and nothing else is computed); otherwise the divisor that brings `v` into range
+/// lane-wise, with `v / divisor` and `scaled_norm` to clip or normalise with, and the true
+/// length for comparisons. Lanes that did not overflow keep their bits: their divisor is 1 and
+/// their lengths are `norm`. A lane with an infinite or NaN component stays non-finite.
+#[inline(always)]
+pub fn rescale_overflowed<T: Real>(v: &Vec3<T>, norm: T) -> Option<Rescaled<T>> {
+    let over = norm.simd_eq(lit(f64::INFINITY));
+    if over.none() {
+        return None;
+    }
+    let largest =
+        v.x.simd_abs()
+            .simd_max(v.y.simd_abs())
+            .simd_max(v.z.simd_abs());
+    let divisor = select(over, largest, T::one());
+    let scaled_norm = select(over, (v / divisor).norm(), norm);
+    Some(Rescaled {
+        divisor,
+        scaled_norm,
+        norm: select(over, divisor * scaled_norm, norm),
+    })
 }
 
 /// `0 x`: 0 for a finite `x`, NaN for an infinite or NaN one (lane-wise). Summing these over

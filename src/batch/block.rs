@@ -29,8 +29,7 @@ use crate::batch::{Scene, SphereSlot};
 use crate::decompose::Sphere;
 use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid};
 use crate::laws::model::Model;
-use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput};
-use crate::loads::ContactLoads;
+use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
 use crate::scalar::{finite_probe as probe, zero_if_finite as zf, Vec3};
 use simba::simd::SimdBool;
 
@@ -470,9 +469,17 @@ fn inputs_ok<L: Lanes>(
     ok
 }
 
-/// The lanes whose loads and new state are finite.
+/// The lanes whose loads, new state and (when the model tracks energy) energy terms are
+/// finite: the per-contact checked step refuses a step whose energy terms overflow, so the
+/// batch does too, although it does not return them. `track_energy` is the (folded) model's:
+/// a constant false in every specialised scene kernel, so they test nothing more.
 #[inline(always)]
-fn results_ok<L: Lanes>(loads: &ContactLoads<L>, state: &ContactState<L>) -> L::SimdBool {
+fn results_ok<L: Lanes>(
+    track_energy: bool,
+    out: &StepOutput<L>,
+    state: &ContactState<L>,
+) -> L::SimdBool {
+    let loads = &out.loads;
     let mut acc = zf(state.twisting_angle);
     for v in [
         &loads.force1,
@@ -483,6 +490,11 @@ fn results_ok<L: Lanes>(loads: &ContactLoads<L>, state: &ContactState<L>) -> L::
         &state.twisting_offaxis,
     ] {
         acc = probe(acc, v);
+    }
+    if track_energy {
+        for e in out.energy.terms() {
+            acc += zf(e);
+        }
     }
     acc.simd_eq(L::zero())
 }
@@ -525,8 +537,8 @@ fn step_inputs<L: Lanes>(
         &step_input(force, stiffness, dt),
         &mut state,
     );
+    let results_ok = results_ok(model.track_energy, &out, &state);
     let l = out.loads;
-    let results_ok = results_ok(&l, &state);
     LaneResults {
         state,
         force1: l.force1,
@@ -587,7 +599,7 @@ fn step_lanes<L: Lanes>(model: &Model, dt: f64, needs_kn: bool, at: usize, b: &m
         &mut state,
     );
     let l = &out.loads;
-    let valid = geometry_ok & (inputs_ok & results_ok(l, &state)).bitmask();
+    let valid = geometry_ok & (inputs_ok & results_ok(model.track_energy, &out, &state)).bitmask();
     b.valid |= (valid & lane_bits(L::N)) << at;
     store3(rows3_mut(&mut b.state, 0), at, &state.sliding_spring);
     store3(rows3_mut(&mut b.state, 3), at, &state.rolling_spring);

@@ -19,10 +19,11 @@
 //! state (each step re-reads them, so they carry `f32` rounding: about 6e-8 relative per step).
 //!
 //! Bad input, one pass: each contact is checked (indices, finite inputs and state, radii,
-//! coincident centres, branch lengths, normal force, finite results) lane-wise. An invalid
-//! contact is skipped: its state and outputs are untouched; the others are processed. The
-//! [`BatchReport`] counts the failures and gives the first failing contact with the error the
-//! per-contact checked call would give for it.
+//! coincident centres, branch lengths, normal force, finite results, and finite energy terms
+//! when the model tracks energy) lane-wise. An invalid contact is skipped: its state and
+//! outputs are untouched; the others are processed. The [`BatchReport`] counts the failures
+//! and gives the first failing contact with the error the per-contact checked call would give
+//! for it.
 
 pub mod block;
 pub mod lanes;

@@ -634,14 +634,17 @@ unsafe fn report_out<'a>(
 /// be NULL otherwise. `options` may be NULL (double, best SIMD). `report` may be NULL.
 ///
 /// Same physics as `rsl_contact_step` with `normal_force` and `dt` set (no per-contact
-/// parameter overrides, no limit force, no setup pass, no energy terms beyond what the model
-/// tracks internally); a model with damping-ratio rolling damping is refused.
+/// parameter overrides, no limit force, no setup pass); a model with damping-ratio rolling
+/// damping is refused. The energy terms are not returned: a model that tracks energy has them
+/// computed and checked finite, as `rsl_contact_step` does (turn tracking off for the batch if
+/// they are not wanted).
 ///
 /// Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
-/// centres, branch <= 0, negative normal force, non-finite result) are skipped in the same
-/// pass: their state and loads are not written; every other contact is processed. The call
-/// then returns the status `rsl_contact_step` would give for the first skipped contact, and
-/// `report` gives its index and the number skipped. `RSL_OK` means every contact was processed.
+/// centres, branch <= 0, negative normal force, non-finite result, energy terms included) are
+/// skipped in the same pass: their state and loads are not written; every other contact is
+/// processed. The call then returns the status `rsl_contact_step` would give for the first
+/// skipped contact, and `report` gives its index and the number skipped. `RSL_OK` means every
+/// contact was processed.
 /// Call-level errors (NULL array, invalid handle or model, dt, options) process nothing.
 ///
 /// # Safety
@@ -925,6 +928,13 @@ pub unsafe extern "C" fn rsl_batch_scene(model: *const rsl_model, scene: *mut u3
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::capi::contact::{rsl_contact_input, rsl_contact_loads, rsl_contact_step};
+    use crate::capi::model::{
+        rsl_model_free, rsl_model_new, rsl_model_set_energy_tracking, rsl_model_set_sliding,
+        RSL_PRESET_OBJECTIVE, RSL_SLIDING_LINEAR,
+    };
+    use crate::capi::status::{rsl_last_error_message, RSL_ERR_NON_FINITE, RSL_OK};
+    use std::ffi::CStr;
 
     #[test]
     fn scene_constants_are_the_scene_codes() {
@@ -949,5 +959,331 @@ mod tests {
             assert_eq!(code, scene as u32, "{scene:?}");
             assert_eq!(Scene::from_code(code as u8), scene);
         }
+    }
+
+    fn vec3(x: f64, y: f64, z: f64) -> rsl_vec3 {
+        rsl_vec3 { x, y, z }
+    }
+
+    fn last_error() -> String {
+        // SAFETY: a NUL-terminated thread-local string, valid until the next failing call.
+        unsafe { CStr::from_ptr(rsl_last_error_message()) }
+            .to_str()
+            .unwrap()
+            .to_string()
+    }
+
+    /// The reported model: objective preset, linear sliding (k_t 1e5, gamma_t 5, mu_s 0.5),
+    /// energy tracking as given. Free with `rsl_model_free`.
+    fn sliding_model(track_energy: bool) -> *mut rsl_model {
+        let mut m = std::ptr::null_mut();
+        // SAFETY: `m` is a valid out pointer, then a live handle used by this thread only.
+        unsafe {
+            assert_eq!(rsl_model_new(RSL_PRESET_OBJECTIVE, &mut m), RSL_OK);
+            let status = rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 5.0, 0.5);
+            assert_eq!(status, RSL_OK);
+            assert_eq!(
+                rsl_model_set_energy_tracking(m, track_energy as i32),
+                RSL_OK
+            );
+        }
+        m
+    }
+
+    /// Every option set this CPU runs: both precisions, every SIMD level, specialised or not.
+    fn all_options() -> Vec<rsl_batch_options> {
+        let mut out = Vec::new();
+        for simd in [RSL_SIMD_SCALAR, RSL_SIMD_AVX2, RSL_SIMD_AVX512] {
+            if Simd::resolve(simd).is_err() {
+                continue;
+            }
+            for precision in [RSL_PRECISION_F64, RSL_PRECISION_F32] {
+                for flags in [0, RSL_BATCH_GENERIC] {
+                    out.push(rsl_batch_options {
+                        precision,
+                        simd,
+                        flags,
+                        reserved: 0,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// `n` ordinary contacts (R = 1 spheres 1.9 apart along a direction that turns with the
+    /// index, modest velocities and springs) and their normal forces.
+    fn ordinary_contacts(n: usize) -> (Vec<rsl_sphere>, Vec<rsl_sphere>, Vec<f64>) {
+        let (mut body1, mut body2, mut f_n) = (Vec::new(), Vec::new(), Vec::new());
+        for c in 0..n {
+            let a = c as f64 * 0.7;
+            let dir = vec3(a.cos() * 0.8, a.sin() * 0.8, 0.6);
+            let zero = rsl_vec3::default();
+            body1.push(rsl_sphere {
+                position: vec3(c as f64, 0.5, -1.0),
+                velocity: vec3(0.3 * a.sin(), -0.2, 0.1 * c as f64),
+                angular_velocity: vec3(0.5, -a.cos(), 2.0),
+                radius: 1.0,
+            });
+            body2.push(rsl_sphere {
+                position: vec3(
+                    c as f64 + 1.9 * dir.x,
+                    0.5 + 1.9 * dir.y,
+                    -1.0 + 1.9 * dir.z,
+                ),
+                velocity: zero,
+                angular_velocity: vec3(-0.25, 0.0, 1.0),
+                radius: 1.0,
+            });
+            f_n.push(10.0 + c as f64);
+        }
+        (body1, body2, f_n)
+    }
+
+    /// Per-contact `rsl_contact_step` of each contact: status, loads, new state.
+    fn per_contact(
+        m: *const rsl_model,
+        body1: &[rsl_sphere],
+        body2: &[rsl_sphere],
+        f_n: &[f64],
+        states: &[rsl_contact_state],
+    ) -> Vec<(i32, rsl_contact_loads, rsl_contact_state)> {
+        (0..body1.len())
+            .map(|c| {
+                let input = rsl_contact_input {
+                    normal_force: f_n[c],
+                    dt: 1e-4,
+                    ..Default::default()
+                };
+                let (mut state, mut out) = (states[c], rsl_contact_loads::default());
+                // SAFETY: live handle and locals of the right types; none overlap.
+                let status = unsafe {
+                    rsl_contact_step(m, &body1[c], &body2[c], &input, &mut state, &mut out)
+                };
+                (status, out, state)
+            })
+            .collect()
+    }
+
+    /// Runs both batch entry points on the contacts; asserts that in double precision every
+    /// contact the per-contact step accepts gets its loads and state bit for bit, that the
+    /// refused ones (`refused`, with `status` and a message containing `needle`) are skipped
+    /// with their state and loads untouched, and that the report says so. In single precision
+    /// only the statuses are compared (its rounding differs).
+    #[allow(clippy::too_many_arguments)]
+    fn batch_agrees(
+        m: *const rsl_model,
+        body1: &[rsl_sphere],
+        body2: &[rsl_sphere],
+        f_n: &[f64],
+        states0: &[rsl_contact_state],
+        refused: &[usize],
+        status: i32,
+        needle: &str,
+    ) {
+        let n = body1.len();
+        let reference = per_contact(m, body1, body2, f_n, states0);
+        for (c, (s, _, _)) in reference.iter().enumerate() {
+            let expected = if refused.contains(&c) { status } else { RSL_OK };
+            assert_eq!(*s, expected, "per-contact status of contact {c}");
+        }
+        let overall = if refused.is_empty() { RSL_OK } else { status };
+        let sentinel = rsl_batch_loads {
+            force1: vec3(7.0, 7.0, 7.0),
+            ..Default::default()
+        };
+        // Particle-major: contact c joins particles 2c and 2c + 1.
+        let particles: Vec<rsl_sphere> = (0..n).flat_map(|c| [body1[c], body2[c]]).collect();
+        let pairs: Vec<u32> = (0..2 * n as u32).collect();
+        for options in all_options() {
+            let f64s = options.precision == RSL_PRECISION_F64;
+            let what = format!("{options:?}");
+            let mut states = states0.to_vec();
+            let mut out = vec![sentinel; n];
+            let mut report = rsl_batch_report::default();
+            // SAFETY: every array holds `n` elements; none overlap.
+            let got = unsafe {
+                rsl_batch_step_contacts(
+                    m,
+                    body1.as_ptr(),
+                    body2.as_ptr(),
+                    n,
+                    f_n.as_ptr(),
+                    std::ptr::null(),
+                    1e-4,
+                    &options,
+                    states.as_mut_ptr(),
+                    out.as_mut_ptr(),
+                    &mut report,
+                )
+            };
+            if f64s {
+                assert_eq!(got, overall, "{what}: {}", last_error());
+                if overall != RSL_OK {
+                    assert!(last_error().contains(needle), "{what}: {}", last_error());
+                }
+                assert_eq!(report.failed, refused.len() as u64, "{what}");
+                for (c, (_, loads, state)) in reference.iter().enumerate() {
+                    if refused.contains(&c) {
+                        assert_eq!(out[c], sentinel, "{what}: loads of refused contact {c}");
+                        assert_eq!(states[c], states0[c], "{what}: state of refused {c}");
+                    } else {
+                        let want = [loads.force1, loads.torque1, loads.torque2];
+                        let have = [out[c].force1, out[c].torque1, out[c].torque2];
+                        assert_eq!(format!("{have:?}"), format!("{want:?}"), "{what}: {c}");
+                        assert_eq!(format!("{:?}", states[c]), format!("{state:?}"), "{c}");
+                    }
+                }
+            } else {
+                // The single-precision kernels refuse at least what the double ones refuse.
+                assert!(report.failed >= refused.len() as u64, "{what}");
+                for &c in refused {
+                    assert_eq!(out[c], sentinel, "{what}: loads of refused contact {c}");
+                    assert_eq!(states[c], states0[c], "{what}: state of refused {c}");
+                }
+            }
+            if let Some(&first) = refused.first() {
+                if f64s {
+                    assert_eq!(report.first_failed, first as u64, "{what}");
+                }
+                assert_eq!(report.first_status, status, "{what}");
+            }
+
+            let mut states = states0.to_vec();
+            let mut force = vec![rsl_vec3::default(); 2 * n];
+            let mut torque = vec![rsl_vec3::default(); 2 * n];
+            let mut report = rsl_batch_report::default();
+            // SAFETY: `particles`, `force`, `torque` hold 2n elements, `pairs` 2n indices,
+            // the per-contact arrays n; none overlap.
+            let got = unsafe {
+                rsl_batch_step(
+                    m,
+                    particles.as_ptr(),
+                    2 * n,
+                    pairs.as_ptr(),
+                    n,
+                    f_n.as_ptr(),
+                    std::ptr::null(),
+                    1e-4,
+                    &options,
+                    states.as_mut_ptr(),
+                    force.as_mut_ptr(),
+                    torque.as_mut_ptr(),
+                    &mut report,
+                )
+            };
+            if f64s {
+                assert_eq!(got, overall, "{what} (particle-major)");
+                assert_eq!(
+                    report.failed,
+                    refused.len() as u64,
+                    "{what} (particle-major)"
+                );
+                // Added to a zero accumulator: `0 + x` is `x` (-0 becomes +0, hence values).
+                for (c, (_, loads, _)) in reference.iter().enumerate() {
+                    if !refused.contains(&c) {
+                        assert_eq!(force[2 * c], loads.force1, "{what}: {c}");
+                        assert_eq!(torque[2 * c + 1], loads.torque2, "{what}: {c}");
+                    }
+                }
+            }
+            for &c in refused {
+                assert_eq!(states[c], states0[c], "{what}: state of refused {c}");
+                let untouched = [
+                    force[2 * c],
+                    force[2 * c + 1],
+                    torque[2 * c],
+                    torque[2 * c + 1],
+                ];
+                assert_eq!(untouched, [rsl_vec3::default(); 4], "{what}: loads of {c}");
+            }
+        }
+    }
+
+    /// The per-contact step refuses a contact whose energy terms overflow when the model
+    /// tracks energy (`RSL_ERR_NON_FINITE`, "energy terms"): the reported one, R = 1 spheres at
+    /// (0, 0, 0) and (1.9, 0, 0) sliding at +-1e200 along y (the dashpot's `gamma_t |v_s|^2 dt`
+    /// is +inf). Every batch kernel must skip it with the same status (the header: "the status
+    /// `rsl_contact_step` would give"), in a lane among ordinary contacts, which are stepped
+    /// as the per-contact step steps them. Without energy tracking all are accepted.
+    #[test]
+    fn batch_refuses_what_the_per_contact_step_refuses_with_energy_tracking() {
+        let (mut body1, mut body2, f_n) = ordinary_contacts(19);
+        let huge = 5;
+        body1[huge] = rsl_sphere {
+            velocity: vec3(0.0, 1e200, 0.0),
+            radius: 1.0,
+            ..Default::default()
+        };
+        body2[huge] = rsl_sphere {
+            position: vec3(1.9, 0.0, 0.0),
+            velocity: vec3(0.0, -1e200, 0.0),
+            radius: 1.0,
+            ..Default::default()
+        };
+        let states = vec![rsl_contact_state::default(); body1.len()];
+        for track_energy in [true, false] {
+            let m = sliding_model(track_energy);
+            let refused: &[usize] = if track_energy { &[huge] } else { &[] };
+            batch_agrees(
+                m,
+                &body1,
+                &body2,
+                &f_n,
+                &states,
+                refused,
+                RSL_ERR_NON_FINITE,
+                "energy terms",
+            );
+            // SAFETY: a live handle, freed once.
+            unsafe { rsl_model_free(m) };
+        }
+    }
+
+    /// The reported overflowing clip (sliding at +-1e155, and a stored spring of 1e150) in SIMD
+    /// lanes beside ordinary contacts: every kernel gives the per-contact bits, and those are
+    /// the Coulomb load `mu_s f_n` (checked through `rsl_contact_step`'s sliding force).
+    #[test]
+    fn overflowing_clips_in_simd_lanes_match_the_per_contact_step() {
+        let (mut body1, mut body2, mut f_n) = ordinary_contacts(21);
+        let mut states = vec![rsl_contact_state::default(); body1.len()];
+        let n = vec3(0.6, 0.8, 0.0);
+        for (c, v, spring) in [(3, 1e155, 0.0), (9, 0.0, 1e150), (10, 1e155, 1e150)] {
+            body1[c] = rsl_sphere {
+                velocity: vec3(0.0, 0.0, v),
+                radius: 1.0,
+                ..Default::default()
+            };
+            body2[c] = rsl_sphere {
+                position: vec3(1.65 * n.x, 1.65 * n.y, 0.0),
+                velocity: vec3(0.0, 0.0, -v),
+                radius: 0.7,
+                ..Default::default()
+            };
+            f_n[c] = 100.0;
+            states[c].sliding_spring = vec3(0.0, 0.0, spring);
+        }
+        let m = sliding_model(false);
+        for (c, (status, loads, _)) in per_contact(m, &body1, &body2, &f_n, &states)
+            .iter()
+            .enumerate()
+        {
+            assert_eq!(*status, RSL_OK);
+            if [3, 9, 10].contains(&c) {
+                let f = loads.sliding_force;
+                // mu_s f_n = 50 against the sliding (or the spring): -z, to 4 eps.
+                assert!(
+                    f.x.abs() + f.y.abs() <= 4.0 * f64::EPSILON * 50.0,
+                    "{c}: {f:?}"
+                );
+                assert!(
+                    (f.z + 50.0).abs() <= 4.0 * f64::EPSILON * 50.0,
+                    "{c}: {f:?}"
+                );
+            }
+        }
+        batch_agrees(m, &body1, &body2, &f_n, &states, &[], RSL_OK, "");
+        // SAFETY: a live handle, freed once.
+        unsafe { rsl_model_free(m) };
     }
 }

@@ -1,8 +1,10 @@
 //! One step of a spring-dashpot-slider (models.md section 2, steps 3-5), for a vector spring
 //! (sliding, rolling; YADE's twist) and a scalar one (twisting), with its energy terms.
-//! Written once for every [`Real`] type: the clip is a lane-wise select, not a branch.
+//! Written once for every [`Real`] type: the clip is a lane-wise select, not a branch. A load
+//! whose squared length overflows (about 1.3e154 in `f64`) is clipped from a rescaled copy
+//! ([`rescale_overflowed`]) in its lane only, so it gets its limit, not zero.
 
-use crate::scalar::{lit, mask, select, select3, Real, Vec3};
+use crate::scalar::{lit, mask, rescale_overflowed, select, select3, Real, Vec3};
 use simba::simd::SimdBool;
 
 /// How the limit is applied when the trial load exceeds it.
@@ -140,8 +142,14 @@ pub fn vector_spring<T: Real>(
                 // them changes no bit, and spares the clip's divisions in the common case).
                 (load, trial, elastic_trial, slipped, mask::<T>(true))
             } else {
-                let scale = c.limit / select(slipped, magnitude, T::one());
-                let clipped = load * scale;
+                // Where |load|^2 overflowed, the load is clipped from its rescaled copy (and
+                // its true length decides whether it slips); other lanes keep their bits.
+                let (load_in_range, length, slipped) = match rescale_overflowed(&load, magnitude) {
+                    None => (load, magnitude, slipped),
+                    Some(r) => (load / r.divisor, r.scaled_norm, r.norm.simd_gt(c.limit)),
+                };
+                let scale = c.limit / select(slipped, length, T::one());
+                let clipped = load_in_range * scale;
                 let elastic_reset = clipped + damping_load;
                 let spring_reset = match storage {
                     Storage::Displacement => {
@@ -172,9 +180,21 @@ pub fn vector_spring<T: Real>(
                 let load = elastic_trial - damping_load;
                 (load, trial, elastic_trial, slipped, !slipped)
             } else {
-                let scale = c.limit / select(slipped, magnitude, T::one());
-                let new_spring = select3(slipped, &(trial * scale), &trial);
-                let new_elastic = select3(slipped, &(elastic_trial * scale), &elastic_trial);
+                // As above: the spring and its load are scaled from copies divided by the
+                // same factor where |E|^2 overflowed.
+                let (trial_in_range, elastic_in_range, length, slipped) =
+                    match rescale_overflowed(&elastic_trial, magnitude) {
+                        None => (trial, elastic_trial, magnitude, slipped),
+                        Some(r) => (
+                            trial / r.divisor,
+                            elastic_trial / r.divisor,
+                            r.scaled_norm,
+                            r.norm.simd_gt(c.limit),
+                        ),
+                    };
+                let scale = c.limit / select(slipped, length, T::one());
+                let new_spring = select3(slipped, &(trial_in_range * scale), &trial);
+                let new_elastic = select3(slipped, &(elastic_in_range * scale), &elastic_trial);
                 let load = select3(slipped, &new_elastic, &(new_elastic - damping_load));
                 (load, new_spring, new_elastic, slipped, !slipped)
             }

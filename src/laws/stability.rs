@@ -57,8 +57,9 @@ pub fn rotational_critical_time_step(
 /// `dt <= 2 / sqrt(k_t (1/m1 + 1/m2 + l1^2/I1 + l2^2/I2) + k_theta (1/I1 + 1/I2))`.
 ///
 /// `k_t` (force/length) and `k_theta` (moment/rad) >= 0, not both 0; masses and inertias > 0
-/// (body 2's may be +inf for a wall); `l1`, `l2` the branch lengths (> 0; `l2` is ignored when
-/// `inertia2` is infinite).
+/// (body 2's may be +inf for a wall); `l1`, `l2` the branch lengths (> 0; `l2` is not read,
+/// so not checked, when `inertia2` is +inf: its term `l2^2/I2` is 0, and a wall's `l2` is
+/// +inf).
 #[allow(clippy::too_many_arguments)]
 pub fn coupled_critical_time_step(
     k_t: f64,

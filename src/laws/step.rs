@@ -18,7 +18,7 @@ use crate::laws::spring::{
 };
 use crate::laws::transport::{transport, Frame, RescaleWhen};
 use crate::loads::{contact_loads_from_couple, ContactLoads};
-use crate::scalar::{lit, mask, select, select3, tangential, Real, Vec3};
+use crate::scalar::{lit, mask, rescale_overflowed, select, select3, tangential, Real, Vec3};
 
 /// Per-call inputs of a contact step besides the bodies.
 #[derive(Clone, Copy, Debug)]
@@ -399,21 +399,30 @@ pub fn contact_step_with_geometry<T: Real>(
         match p.law {
             RollingLaw::None => {}
             RollingLaw::Cdt => {
+                // `v / |v|` (zero for a zero `v`), from a rescaled copy where `|v|^2`
+                // overflowed (else that lane's direction, hence its moment, would be zero).
+                // Returns the direction and `|v|`.
+                let unit = |v: &Vec3<T>| -> (Vec3<T>, T) {
+                    let norm = v.norm();
+                    let (v, length, norm) = match rescale_overflowed(v, norm) {
+                        None => (*v, norm, norm),
+                        Some(r) => (v / r.divisor, r.scaled_norm, r.norm),
+                    };
+                    let safe = select(length.simd_gt(zero), length, T::one());
+                    (v / safe, norm)
+                };
+                let (dw_t_unit, dw_t_norm) = unit(&dw_t);
                 let (force, direction) = if conv.cdt_liggghts {
                     // LIGGGHTS: elastic normal force k_n delta; w/|w| with the normal part
                     // removed after normalising.
-                    let norm = dw.norm();
-                    let safe = select(norm.simd_gt(zero), norm, T::one());
                     (
                         input.normal_stiffness * g.overlap,
-                        tangential(&(dw / safe), &n),
+                        tangential(&unit(&dw).0, &n),
                     )
                 } else {
-                    let norm = dw_t.norm();
-                    let safe = select(norm.simd_gt(zero), norm, T::one());
-                    (f_limit, dw_t / safe)
+                    (f_limit, dw_t_unit)
                 };
-                let active = dw_t.norm().simd_gt(lit(p.rate_threshold));
+                let active = dw_t_norm.simd_gt(lit(p.rate_threshold));
                 // Moment magnitude: mu_r R_r f (length form), eta f (angle form).
                 let magnitude = if angle {
                     friction * force
@@ -431,9 +440,13 @@ pub fn contact_step_with_geometry<T: Real>(
                 let gamma = input.rolling_damping.unwrap_or_else(|| lit(p.damping));
                 let load = rate * (-gamma);
                 let magnitude = load.norm();
-                let over = magnitude.simd_gt(limit);
-                let scale = limit / select(over, magnitude, T::one());
-                let load = select3(over, &(load * scale), &load);
+                // Clipped from a rescaled copy where |load|^2 overflowed (see vector_spring).
+                let (load_in_range, length, over) = match rescale_overflowed(&load, magnitude) {
+                    None => (load, magnitude, magnitude.simd_gt(limit)),
+                    Some(r) => (load / r.divisor, r.scaled_norm, r.norm.simd_gt(limit)),
+                };
+                let scale = limit / select(over, length, T::one());
+                let load = select3(over, &(load_in_range * scale), &load);
                 rolling_moment = to_moment(&load);
                 slipped_r = over;
                 if energy_on {
