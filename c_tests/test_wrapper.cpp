@@ -4,6 +4,12 @@
 // -Wall -Wextra -pedantic -Werror, with g++ and (where installed) clang++.
 #include "rollslide.hpp"
 
+// The numeric version macro works in preprocessor tests.
+#if !defined(RSL_VERSION_NUMBER) ||                                                           \
+    RSL_VERSION_NUMBER != RSL_VERSION_MAJOR * 10000 + RSL_VERSION_MINOR * 100 + RSL_VERSION_PATCH
+#error "RSL_VERSION_NUMBER is missing or does not match RSL_VERSION_MAJOR/MINOR/PATCH"
+#endif
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>

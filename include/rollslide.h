@@ -185,10 +185,14 @@
 // Twisting law: Marshall (from the sliding law and the contact radius).
 #define RSL_TWISTING_MARSHALL 2
 
-// Rolling parameters in length form (k_r force/length, gamma_r, mu_r dimensionless).
+// Rolling parameters in length form: `F_r = -k_r xi_r - gamma_r v_r` on body 1, limited to
+// `mu_r f_n`, moment `R_r n x F_r`: `k_r` force/length, `gamma_r` force time/length, `mu_r`
+// dimensionless; the stored rolling spring `xi_r` is a length.
 #define RSL_FORM_LENGTH 0
 
-// Rolling parameters in angle form (k_theta moment/rad, c_theta, eta a length).
+// Rolling parameters in angle form: `M = -k_theta theta_r - c_theta (w1 - w2)_t`, limited to
+// `eta f_n`: `k_theta` moment/rad, `c_theta` moment time/rad, `eta` a length; the stored
+// rolling spring `theta_r` is in radians.
 #define RSL_FORM_ANGLE 1
 
 // EPSD stiffness: the given `stiffness`.
@@ -278,6 +282,10 @@
 
 // Patch version of the header.
 #define RSL_VERSION_PATCH 0
+
+// The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
+// PATCH` (0.1.0 is 100): `#if RSL_VERSION_NUMBER >= 100`.
+#define RSL_VERSION_NUMBER 100
 
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
@@ -576,7 +584,8 @@ typedef struct rsl_rolling_params {
   int32_t reserved;
   // `k_r` (force/length) or `k_theta` (moment/rad), >= 0.
   double stiffness;
-  // `gamma_r`, `c_theta`, or the damping ratio, >= 0.
+  // `gamma_r` (force time/length), `c_theta` (moment time/rad), or the damping ratio
+  // (dimensionless), >= 0.
   double damping;
   // `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
   double friction;
@@ -919,7 +928,8 @@ int32_t rsl_model_set_sliding(struct rsl_model *model,
                               double damping,
                               double friction);
 
-// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` and `mu_tw`
+// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` (moment
+// time/rad) and `mu_tw`
 // (a length: the limit is `mu_tw f_n`), each finite and >= 0. `RSL_TWISTING_MARSHALL` derives
 // its coefficients from the sliding law and ignores these three.
 //

@@ -43,9 +43,13 @@ pub const RSL_TWISTING_SDS: i32 = 1;
 /// Twisting law: Marshall (from the sliding law and the contact radius).
 pub const RSL_TWISTING_MARSHALL: i32 = 2;
 
-/// Rolling parameters in length form (k_r force/length, gamma_r, mu_r dimensionless).
+/// Rolling parameters in length form: `F_r = -k_r xi_r - gamma_r v_r` on body 1, limited to
+/// `mu_r f_n`, moment `R_r n x F_r`: `k_r` force/length, `gamma_r` force time/length, `mu_r`
+/// dimensionless; the stored rolling spring `xi_r` is a length.
 pub const RSL_FORM_LENGTH: i32 = 0;
-/// Rolling parameters in angle form (k_theta moment/rad, c_theta, eta a length).
+/// Rolling parameters in angle form: `M = -k_theta theta_r - c_theta (w1 - w2)_t`, limited to
+/// `eta f_n`: `k_theta` moment/rad, `c_theta` moment time/rad, `eta` a length; the stored
+/// rolling spring `theta_r` is in radians.
 pub const RSL_FORM_ANGLE: i32 = 1;
 
 /// EPSD stiffness: the given `stiffness`.
@@ -133,7 +137,8 @@ pub struct rsl_rolling_params {
     pub reserved: i32,
     /// `k_r` (force/length) or `k_theta` (moment/rad), >= 0.
     pub stiffness: f64,
-    /// `gamma_r`, `c_theta`, or the damping ratio, >= 0.
+    /// `gamma_r` (force time/length), `c_theta` (moment time/rad), or the damping ratio
+    /// (dimensionless), >= 0.
     pub damping: f64,
     /// `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
     pub friction: f64,
@@ -297,7 +302,8 @@ pub unsafe extern "C" fn rsl_model_set_sliding(
     })
 }
 
-/// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` and `mu_tw`
+/// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` (moment
+/// time/rad) and `mu_tw`
 /// (a length: the limit is `mu_tw f_n`), each finite and >= 0. `RSL_TWISTING_MARSHALL` derives
 /// its coefficients from the sliding law and ignores these three.
 ///

@@ -6,6 +6,9 @@ pub const RSL_VERSION_MAJOR: u32 = 0;
 pub const RSL_VERSION_MINOR: u32 = 1;
 /// Patch version of the header.
 pub const RSL_VERSION_PATCH: u32 = 0;
+/// The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
+/// PATCH` (0.1.0 is 100): `#if RSL_VERSION_NUMBER >= 100`.
+pub const RSL_VERSION_NUMBER: u32 = 100;
 
 /// The library's version as a static NUL-terminated string "MAJOR.MINOR.PATCH" (the version of
 /// the compiled library, which a program can compare with the header's `RSL_VERSION_*`).
@@ -25,6 +28,10 @@ mod tests {
         assert_eq!(RSL_VERSION_MAJOR, parse(env!("CARGO_PKG_VERSION_MAJOR")));
         assert_eq!(RSL_VERSION_MINOR, parse(env!("CARGO_PKG_VERSION_MINOR")));
         assert_eq!(RSL_VERSION_PATCH, parse(env!("CARGO_PKG_VERSION_PATCH")));
+        assert_eq!(
+            RSL_VERSION_NUMBER,
+            RSL_VERSION_MAJOR * 10000 + RSL_VERSION_MINOR * 100 + RSL_VERSION_PATCH
+        );
         // SAFETY: rsl_version returns a static NUL-terminated string.
         let s = unsafe { CStr::from_ptr(rsl_version()) };
         assert_eq!(s.to_str().unwrap(), env!("CARGO_PKG_VERSION"));
