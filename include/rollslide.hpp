@@ -42,15 +42,12 @@ namespace detail {
 
 /// Throws the error of `status` (not RSL_OK) returned by `call`, with the thread's last message.
 [[noreturn]] inline void fail(int32_t status, const char *call) {
+    // The thread's last message names the failure and the field; the status name stands in
+    // when there is none.
+    const char *detail = rsl_last_error_message();
     std::string message(call);
     message += ": ";
-    message += rsl_status_str(status);
-    const char *detail = rsl_last_error_message();
-    if (detail != nullptr && detail[0] != '\0') {
-        message += " (";
-        message += detail;
-        message += ")";
-    }
+    message += (detail != nullptr && detail[0] != '\0') ? detail : rsl_status_str(status);
     throw error(status, message);
 }
 
@@ -128,8 +125,9 @@ inline double coupled_critical_time_step(double k_t, double k_theta, double mass
 
 /// A fresh (all-zero) contact state: what a new contact starts from, and what a contact is reset
 /// to when its pair separates.
-inline rsl_contact_state fresh_state() noexcept {
-    rsl_contact_state s = rsl_contact_state();
+inline rsl_contact_state fresh_state() {
+    rsl_contact_state s;
+    detail::check(rsl_contact_state_init(&s), "rsl_contact_state_init");
     return s;
 }
 

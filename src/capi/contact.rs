@@ -1045,7 +1045,7 @@ pub unsafe extern "C" fn rsl_coupled_critical_time_step(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     //! `rsl_contact_step`'s fast path (a plain input) against its checked path, reached with a
     //! sliding-stiffness override equal to the model's `k_t` (the same physics).
     use super::*;
@@ -1154,7 +1154,7 @@ mod tests {
     }
 
     /// Every field of a state as bits (so that NaN compares and -0 differs from 0).
-    fn state_bits(s: &rsl_contact_state) -> Vec<u64> {
+    pub(crate) fn state_bits(s: &rsl_contact_state) -> Vec<u64> {
         let vectors = [
             s.sliding_spring,
             s.rolling_spring,

@@ -258,6 +258,13 @@ fn doubles_mut(states: &mut [rsl_contact_state; GROUP]) -> [*mut f64; GROUP] {
         .map(|s| (s as *mut rsl_contact_state).cast::<f64>())
 }
 
+/// Writes each state's slip flags (the transpositions write only its doubles).
+fn set_slip_flags(states: &mut [rsl_contact_state; GROUP], slip: &[u32; GROUP]) {
+    for (state, &flags) in states.iter_mut().zip(slip) {
+        state.slip_flags = flags;
+    }
+}
+
 #[cfg(target_arch = "x86_64")]
 impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
     #[inline(always)]
@@ -307,9 +314,7 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
             avx2::rows_to_words([r8, r9, r10, r11], dst, 8);
             avx2::rows_to_words([r9, r10, r11, r12], dst, 9);
         }
-        for (state, &flags) in states.iter_mut().zip(slip) {
-            state.slip_flags = flags;
-        }
+        set_slip_flags(states, slip);
     }
 }
 
@@ -357,9 +362,7 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
             avx512::rows_to_words([r0, r1, r2, r3, r4, r5, r6, r7], dst, 0);
             avx512::rows_to_words([r5, r6, r7, r8, r9, r10, r11, r12], dst, 5);
         }
-        for (state, &flags) in states.iter_mut().zip(slip) {
-            state.slip_flags = flags;
-        }
+        set_slip_flags(states, slip);
     }
 }
 
@@ -368,6 +371,7 @@ mod tests {
     use super::*;
     use crate::batch::PortableCopy;
     use crate::capi::batch::Simd;
+    use crate::capi::contact::tests::state_bits;
     use crate::capi::types::rsl_vec3;
 
     /// Distinct doubles (none repeated, so a misplaced word shows), including signed zeros and
@@ -417,31 +421,11 @@ mod tests {
         rows.iter().flatten().map(|v| v.to_bits()).collect()
     }
 
-    fn state_bits(s: &[rsl_contact_state]) -> Vec<(Vec<u64>, u32, u32)> {
-        s.iter()
-            .map(|s| {
-                let v = [
-                    s.sliding_spring,
-                    s.rolling_spring,
-                    s.twisting_offaxis,
-                    s.previous_normal,
-                ];
-                let mut w: Vec<u64> = v
-                    .iter()
-                    .flat_map(|v| [v.x, v.y, v.z])
-                    .map(f64::to_bits)
-                    .collect();
-                w.push(s.twisting_angle.to_bits());
-                (w, s.slip_flags, s.reserved)
-            })
-            .collect()
-    }
-
     /// What `copy` puts in the rows and the states, for comparison with [`PortableCopy`].
     #[allow(clippy::type_complexity)]
     fn run<X: GroupCopy<rsl_sphere, rsl_contact_state>>(
         copy: X,
-    ) -> (Vec<u64>, Vec<u64>, Vec<(Vec<u64>, u32, u32)>) {
+    ) -> (Vec<u64>, Vec<u64>, Vec<Vec<u64>>) {
         let spheres = spheres();
         let states = states();
         let mut body_rows = [[f64::NAN; GROUP]; BODY_WORDS];
@@ -456,7 +440,11 @@ mod tests {
         let mut out: [rsl_contact_state; GROUP] = states.clone().try_into().expect("a group");
         let slip = [1, 2, 3, 4, 5, 6, 7, 0];
         copy.store_states(reversed.each_ref(), &slip, &mut out);
-        (bits(&body_rows), bits(&state_rows), state_bits(&out))
+        (
+            bits(&body_rows),
+            bits(&state_rows),
+            out.iter().map(state_bits).collect(),
+        )
     }
 
     #[test]
