@@ -194,3 +194,65 @@ void test_critical_time_steps(void) {
     CHECK_STATUS(rsl_coupled_critical_time_step(1.0, 0.0, 1.0, INFINITY, 1.0, INFINITY, 1.0, 1.0, &dt), RSL_OK);
     CHECK_CLOSE(dt, 2.0 / sqrt(2.0), 0, 1e-15); /* k_t (1/m1 + l1^2/I1) = 2 */
 }
+
+/* LIGGGHTS' `torsionTorque on` through the C ABI. cdt, LIGGGHTS_3_8 preset, eta = 0.1 (angle
+ * form: a length), k_n = 1000, overlap 0.01 (radii 1 and 2, centres 2.99 apart along +x = n):
+ * the moment magnitude is eta k_n delta = 1. With w1 = (0.3, 0.4, 0), w2 = 0, LIGGGHTS without
+ * the switch takes w/|w| = (0.6, 0.8, 0) and removes its normal part: M1 = -(0, 0.8, 0); with
+ * it, M1 = -(0.6, 0.8, 0). A pure twist (0.3, 0, 0) gives 0 without and -(1, 0, 0) with.
+ * Tolerance 1e-13 relative: the overlap 3 - 2.99 carries the rounding of 2.99 (about 2e-16,
+ * 2e-14 of the overlap). */
+void test_liggghts_torsion_torque(void) {
+    rsl_model *m = NULL;
+    CHECK_STATUS(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), RSL_OK);
+    rsl_rolling_params p;
+    CHECK_STATUS(rsl_model_get_rolling(m, &p), RSL_OK);
+    p.law = RSL_ROLLING_CDT;
+    p.friction = 0.1;
+    CHECK_STATUS(rsl_model_set_rolling(m, &p), RSL_OK);
+    rsl_sphere a = sphere(0.0, 0.0, 1.0), b = sphere(2.99, 0.0, 2.0);
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.normal_force = 10.0;
+    in.normal_stiffness = 1000.0;
+    in.dt = 1e-3;
+    rsl_contact_state st;
+    CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+    rsl_contact_loads out;
+    const double spins[2][2] = {{0.3, 0.4}, {0.3, 0.0}};
+    const double off[2][2] = {{0.0, -0.8}, {0.0, 0.0}};
+    const double on[2][2] = {{-0.6, -0.8}, {-1.0, 0.0}};
+    for (int on_flag = 0; on_flag <= 1; on_flag++) {
+        CHECK_STATUS(rsl_model_set_torsion_torque(m, on_flag), RSL_OK);
+        for (int k = 0; k < 2; k++) {
+            a.angular_velocity.x = spins[k][0];
+            a.angular_velocity.y = spins[k][1];
+            CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &out), RSL_OK);
+            const double *want = on_flag ? on[k] : off[k];
+            CHECK_CLOSE(out.rolling_moment.x, want[0], 1e-14, 1e-13);
+            CHECK_CLOSE(out.rolling_moment.y, want[1], 1e-14, 1e-13);
+            CHECK_CLOSE(out.rolling_moment.z, 0.0, 1e-14, 0);
+            /* Body 2 gets the opposite moment, body 1 the moment itself (no sliding law). */
+            CHECK_CLOSE(out.torque1.x, want[0], 1e-14, 1e-13);
+            CHECK_CLOSE(out.torque2.x, -want[0], 1e-14, 1e-13);
+        }
+    }
+    /* Refused (model unchanged): a flag other than 0/1, the length form while it is on, and any
+     * preset but LIGGGHTS_3_8. */
+    CHECK_STATUS(rsl_model_set_torsion_torque(m, 2), RSL_ERR_INVALID_PARAMETER);
+    rsl_rolling_params length = p;
+    length.form = RSL_FORM_LENGTH;
+    CHECK_STATUS(rsl_model_set_rolling(m, &length), RSL_ERR_INVALID_PARAMETER);
+    CHECK(strstr(rsl_last_error_message(), "torsion torque") != NULL);
+    rsl_rolling_params now;
+    CHECK_STATUS(rsl_model_get_rolling(m, &now), RSL_OK);
+    CHECK(now.form == RSL_FORM_ANGLE);
+    CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &out), RSL_OK);
+    CHECK_CLOSE(out.rolling_moment.x, -1.0, 1e-14, 1e-13); /* still on */
+    rsl_model_free(m);
+    CHECK_STATUS(rsl_model_new(RSL_PRESET_LAMMPS_2021, &m), RSL_OK);
+    CHECK_STATUS(rsl_model_set_torsion_torque(m, 1), RSL_ERR_INVALID_PARAMETER);
+    CHECK(strstr(rsl_last_error_message(), "LIGGGHTS_3_8") != NULL);
+    CHECK_STATUS(rsl_model_set_torsion_torque(m, 0), RSL_OK);
+    rsl_model_free(m);
+}

@@ -155,7 +155,8 @@
 // Preset: YADE 2023.02a CohFrict moment law / Mindlin with moments (angle form, first-order).
 #define RSL_PRESET_YADE_2023 2
 
-// Preset: LIGGGHTS-PUBLIC 3.8.0 rolling friction (angle form, damping below the limit).
+// Preset: LIGGGHTS-PUBLIC 3.8.0 rolling friction (angle form, damping below the limit;
+// `torsionTorque on` with `rsl_model_set_torsion_torque`).
 #define RSL_PRESET_LIGGGHTS_3_8 3
 
 // Sliding law: none.
@@ -589,7 +590,8 @@ typedef struct rsl_rolling_params {
   double damping;
   // `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
   double friction;
-  // cdt: rate `|(w1 - w2)_t|` below which the moment is zero, >= 0.
+  // cdt: rate `|(w1 - w2)_t|` (rad/time; `|w1 - w2|` with `rsl_model_set_torsion_torque`)
+  // below which the moment is zero, >= 0.
   double rate_threshold;
   // EPSD3 factor `c` (> 0 with `RSL_STIFFNESS_EPSD3`).
   double stiffness_factor;
@@ -967,6 +969,22 @@ int32_t rsl_model_set_transport(struct rsl_model *model,
 // # Safety
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_energy_tracking(struct rsl_model *model, int32_t enabled);
+
+// LIGGGHTS' `torsionTorque on` (`enabled` = 1) or off (0, the default, as in LIGGGHTS): the
+// cdt and EPSD rolling laws then act on the whole relative spin `w1 - w2` (rad/time, global
+// frame) instead of its tangential part `(w1 - w2)_t`, so the rolling moment also has a
+// component about the normal, bounded by the same rolling limit: cdt gives
+// `-eta k_n delta (w1 - w2)/|w1 - w2|` on body 1 (`eta` = the rolling limit length), EPSD
+// increments its stored moment by `k_theta dt (w1 - w2)` and damps the whole spin below the
+// limit. The viscous law is unaffected. Only for a model of the `RSL_PRESET_LIGGGHTS_3_8`
+// preset with the angle form (`RSL_FORM_ANGLE`, that preset's default):
+// `RSL_ERR_INVALID_PARAMETER` otherwise, and then, or for `enabled` other than 0 and 1, the
+// model is unchanged. Changing the rolling law to the length form later is refused while the
+// switch is on.
+//
+// # Safety
+// As `rsl_model_set_geometry`.
+int32_t rsl_model_set_torsion_torque(struct rsl_model *model, int32_t enabled);
 
 // A static, NUL-terminated English description of a status code ("unknown status" for codes
 // this library does not define). Never NULL; do not free.

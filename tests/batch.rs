@@ -32,9 +32,20 @@ fn models() -> Vec<(Model, Scene)> {
     let mut viscous = full;
     viscous.rolling.law = RollingLaw::Viscous;
     viscous.sliding_transport = Transport::FirstOrder;
+    // LIGGGHTS with `torsionTorque on`: EPSD (given stiffness and damping, so that no k_n or
+    // masses are needed) acting on the whole relative spin.
+    let mut liggghts = Model::with_preset(Preset::Liggghts38);
+    liggghts.sliding = full.sliding;
+    liggghts.rolling.law = RollingLaw::Epsd;
+    liggghts.rolling.stiffness = 50.0;
+    liggghts.rolling.damping = 0.2;
+    liggghts.rolling.friction = 0.05;
+    liggghts.torsion_torque = true;
+    liggghts.validate().unwrap();
     let mut models = scene_models();
     models.push((yade, Scene::Generic));
     models.push((viscous, Scene::Generic));
+    models.push((liggghts, Scene::Generic));
     models
 }
 

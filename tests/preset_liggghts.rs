@@ -20,7 +20,7 @@ fn liggghts_3_8_preset_reproduces_liggghts_step_by_step() {
     let dir = root().join("tests/reference/liggghts");
     let cases = load_cases(&dir.join("liggghts_reference.csv"));
     assert!(
-        cases.len() >= 12,
+        cases.len() >= 22,
         "expected the LIGGGHTS cases, found {}",
         cases.len()
     );
@@ -64,6 +64,8 @@ fn liggghts_3_8_preset_reproduces_liggghts_step_by_step() {
             }
             _ => {}
         }
+        // `torsionTorque on` in the case's pair_style.
+        model.torsion_torque = params["torsion_torque"].as_bool().unwrap_or(false);
         model.validate().unwrap();
         let dt = params["dt"].as_f64().unwrap();
         let mut state = ContactState::default();

@@ -130,5 +130,6 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
     m.rolling_transport = transport;
     m.preset = preset;
     m.track_energy = false;
+    m.torsion_torque = false;
     m
 }

@@ -19,7 +19,8 @@ pub const RSL_PRESET_OBJECTIVE: i32 = 0;
 pub const RSL_PRESET_LAMMPS_2021: i32 = 1;
 /// Preset: YADE 2023.02a CohFrict moment law / Mindlin with moments (angle form, first-order).
 pub const RSL_PRESET_YADE_2023: i32 = 2;
-/// Preset: LIGGGHTS-PUBLIC 3.8.0 rolling friction (angle form, damping below the limit).
+/// Preset: LIGGGHTS-PUBLIC 3.8.0 rolling friction (angle form, damping below the limit;
+/// `torsionTorque on` with `rsl_model_set_torsion_torque`).
 pub const RSL_PRESET_LIGGGHTS_3_8: i32 = 3;
 
 /// Sliding law: none.
@@ -142,7 +143,8 @@ pub struct rsl_rolling_params {
     pub damping: f64,
     /// `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
     pub friction: f64,
-    /// cdt: rate `|(w1 - w2)_t|` below which the moment is zero, >= 0.
+    /// cdt: rate `|(w1 - w2)_t|` (rad/time; `|w1 - w2|` with `rsl_model_set_torsion_torque`)
+    /// below which the moment is zero, >= 0.
     pub rate_threshold: f64,
     /// EPSD3 factor `c` (> 0 with `RSL_STIFFNESS_EPSD3`).
     pub stiffness_factor: f64,
@@ -505,6 +507,38 @@ pub unsafe extern "C" fn rsl_model_set_energy_tracking(model: *mut rsl_model, en
         unsafe {
             update(model, |m| {
                 m.track_energy = on;
+                Ok(())
+            })
+        }
+    })
+}
+
+/// LIGGGHTS' `torsionTorque on` (`enabled` = 1) or off (0, the default, as in LIGGGHTS): the
+/// cdt and EPSD rolling laws then act on the whole relative spin `w1 - w2` (rad/time, global
+/// frame) instead of its tangential part `(w1 - w2)_t`, so the rolling moment also has a
+/// component about the normal, bounded by the same rolling limit: cdt gives
+/// `-eta k_n delta (w1 - w2)/|w1 - w2|` on body 1 (`eta` = the rolling limit length), EPSD
+/// increments its stored moment by `k_theta dt (w1 - w2)` and damps the whole spin below the
+/// limit. The viscous law is unaffected. Only for a model of the `RSL_PRESET_LIGGGHTS_3_8`
+/// preset with the angle form (`RSL_FORM_ANGLE`, that preset's default):
+/// `RSL_ERR_INVALID_PARAMETER` otherwise, and then, or for `enabled` other than 0 and 1, the
+/// model is unchanged. Changing the rolling law to the length form later is refused while the
+/// switch is on.
+///
+/// # Safety
+/// As `rsl_model_set_geometry`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_torsion_torque(model: *mut rsl_model, enabled: i32) -> i32 {
+    guard(|| {
+        let on = match enabled {
+            0 => false,
+            1 => true,
+            other => return Err(bad("torsion torque flag (0 or 1)", other).into()),
+        };
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.torsion_torque = on;
                 Ok(())
             })
         }

@@ -144,7 +144,8 @@ pub struct RollingParams {
     /// `mu_r` (dimensionless, length form) or `eta` (a length, angle form), >= 0; +inf for no
     /// limit (not for cdt).
     pub friction: f64,
-    /// cdt: relative rolling rate `|(w1 - w2)_t|` (rad/time) below which the moment is zero.
+    /// cdt: relative rolling rate `|(w1 - w2)_t|` (rad/time; `|w1 - w2|` with
+    /// [`Model::torsion_torque`]) below which the moment is zero.
     pub rate_threshold: f64,
     /// EPSD stiffness rule.
     pub stiffness_rule: RollingStiffness,
@@ -189,6 +190,11 @@ pub struct Model {
     pub preset: Preset,
     /// Compute the energy terms of each step (costs a few flops per spring).
     pub track_energy: bool,
+    /// LIGGGHTS' `torsionTorque on` (LIGGGHTS_3_8 preset, angle form, cdt and EPSD rolling
+    /// laws): the rolling law acts on the whole relative spin `w1 - w2` instead of its
+    /// tangential part `(w1 - w2)_t`, so the rolling moment gets a component about the normal
+    /// (a twisting resistance bounded by the same rolling limit). Off by default, as in LIGGGHTS.
+    pub torsion_torque: bool,
 }
 
 /// A limit coefficient: finite and >= 0, or +inf for "no limit".
@@ -314,10 +320,25 @@ impl Model {
         m
     }
 
-    /// Checks every parameter.
+    /// Checks every parameter, and that the model's switches fit its preset.
     pub fn validate(&self) -> Result<(), Error> {
         self.sliding.validate()?;
         self.rolling.validate()?;
-        self.twisting.validate()
+        self.twisting.validate()?;
+        if self.torsion_torque {
+            if self.preset != Preset::Liggghts38 {
+                return Err(Error::InvalidParameter(
+                    "torsion torque is LIGGGHTS' switch: it needs the LIGGGHTS_3_8 preset".into(),
+                ));
+            }
+            if self.rolling.form != RollingForm::Angle {
+                return Err(Error::InvalidParameter(
+                    "torsion torque needs the angle form of the rolling law (the length form's \
+                     rolling velocity has no part about the normal)"
+                        .into(),
+                ));
+            }
+        }
+        Ok(())
     }
 }

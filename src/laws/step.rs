@@ -383,8 +383,11 @@ pub fn contact_step_with_geometry<T: Real>(
         let p = &model.rolling;
         let angle = p.form == RollingForm::Angle;
         let dw_t = tangential(&dw, &n);
-        // The rate conjugate to the stored spring: (w1 - w2)_t or v_r = R_r (w1 - w2) x n.
-        let rate = if angle { dw_t } else { dw.cross(&n) * r_r };
+        // The relative spin the law resists: (w1 - w2)_t, or the whole w1 - w2 with LIGGGHTS'
+        // torsion torque (angle form only, checked by the model).
+        let spin = if model.torsion_torque { dw } else { dw_t };
+        // The rate conjugate to the stored spring: the spin or v_r = R_r (w1 - w2) x n.
+        let rate = if angle { spin } else { dw.cross(&n) * r_r };
         let friction = input.rolling_friction.unwrap_or_else(|| lit(p.friction));
         // mu_r (dimensionless) whatever the form.
         let mu_r = if angle { friction / r_r } else { friction };
@@ -411,18 +414,20 @@ pub fn contact_step_with_geometry<T: Real>(
                     let safe = select(length.simd_gt(zero), length, T::one());
                     (v / safe, norm)
                 };
-                let (dw_t_unit, dw_t_norm) = unit(&dw_t);
+                let (spin_unit, spin_norm) = unit(&spin);
                 let (force, direction) = if conv.cdt_liggghts {
                     // LIGGGHTS: elastic normal force k_n delta; w/|w| with the normal part
-                    // removed after normalising.
-                    (
-                        input.normal_stiffness * g.overlap,
-                        tangential(&unit(&dw).0, &n),
-                    )
+                    // removed after normalising (kept with its torsion torque).
+                    let direction = if model.torsion_torque {
+                        spin_unit
+                    } else {
+                        tangential(&unit(&dw).0, &n)
+                    };
+                    (input.normal_stiffness * g.overlap, direction)
                 } else {
-                    (f_limit, dw_t_unit)
+                    (f_limit, spin_unit)
                 };
-                let active = dw_t_norm.simd_gt(lit(p.rate_threshold));
+                let active = spin_norm.simd_gt(lit(p.rate_threshold));
                 // Moment magnitude: mu_r R_r f (length form), eta f (angle form).
                 let magnitude = if angle {
                     friction * force
@@ -433,7 +438,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 rolling_moment = moment;
                 slipped_r = active;
                 if energy_on {
-                    rolling_energy.slider = -moment.dot(&dw_t) * dt;
+                    rolling_energy.slider = -moment.dot(&spin) * dt;
                 }
             }
             RollingLaw::Viscous => {

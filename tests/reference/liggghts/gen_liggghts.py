@@ -53,10 +53,27 @@ def case_defs():
         C.append((mdl + "_general", mdl, 1.0, 0.6, 0.01, "general",
                   dict(v1=[0.004, -0.003, 0.002], v2=[-0.002, 0.005, 0.0], w1=[0.3, -0.2, 0.5],
                        w2=[-0.4, 0.1, 0.2], n=300)))
+    # `torsionTorque on`: the rolling models act on the whole relative spin (normal part kept).
+    for mdl in MODELS:
+        C.append((mdl + "_general_torsion", mdl, 1.0, 0.6, 0.01, "general",
+                  dict(v1=[0.004, -0.003, 0.002], v2=[-0.002, 0.005, 0.0], w1=[0.3, -0.2, 0.5],
+                       w2=[-0.4, 0.1, 0.2], n=300, torsion=True)))
+    # Fixed centres, body 1 spinning mostly about the normal (twist) and a little about e1
+    # (roll), body 2 at rest: without torsionTorque only the small rolling part is resisted.
+    twist = [0.2 * U[d] + 0.05 * E1[d] for d in range(3)]
+    for mdl in ("cdt", "epsd"):
+        C.append((mdl + "_twist_torsion", mdl, 1.0, 0.5, 0.01, "general",
+                  dict(v1=[0.0, 0.0, 0.0], v2=[0.0, 0.0, 0.0], w1=twist, w2=[0.0, 0.0, 0.0],
+                       n=300, torsion=True)))
     return C
 
 
-def header(mdl):
+def pair_style(mdl, torsion):
+    return "pair_style gran model hertz tangential history rolling_friction %s%s" % (
+        mdl, " torsionTorque on" if torsion else "")
+
+
+def header(mdl, torsion=False):
     lines = ["atom_style granular", "atom_modify map array sort 0 0", "boundary f f f", "newton off",
              "communicate single vel yes", "units si", "soft_particles yes", "read_data data.CASE",
              "neighbor 0.1 bin", "neigh_modify delay 0",
@@ -69,7 +86,7 @@ def header(mdl):
         lines.append("fix m6 all property/global coefficientRollingViscousDamping peratomtypepair 1 %s" % fmt(MAT["coefficientRollingViscousDamping"]))
     if mdl == "epsd3":
         lines.append("fix m7 all property/global rollingStiffness scalar %s" % fmt(MAT["rollingStiffness"]))
-    lines += ["pair_style gran model hertz tangential history rolling_friction %s" % mdl, "pair_coeff * *",
+    lines += [pair_style(mdl, torsion), "pair_coeff * *",
               "timestep %s" % fmt(DT), "group a1 id 1", "group a2 id 2"]
     return lines
 
@@ -93,7 +110,7 @@ def build(case, mdl, R1, R2, delta, kind, p):
     x1 = X1
     x2 = [X1[d] + (R1 + R2 - delta) * U[d] for d in range(3)]
     z = [0.0, 0.0, 0.0]
-    L = header(mdl) + outputs(case, mdl)
+    L = header(mdl, p.get("torsion", False)) + outputs(case, mdl)
     if kind in ("gear", "reverse"):
         # w1 = s e1, w2 = -(R1/R2) s e1: R1 w1 + R2 w2 = 0 (no slip with full radii)
         s = p["s"]
@@ -211,7 +228,8 @@ def main():
         params = dict(case=case, code="LIGGGHTS-PUBLIC 3.8.0 (Debian liggghts 3.8.0+repack1-9+b2)",
                       rolling_friction=mdl, materials=MAT, R1=R1, R2=R2, delta0=delta, dt=DT, density=DENSITY,
                       mass1=float(m1), mass2=float(m2), units="si (soft_particles yes)",
-                      pair_style="pair_style gran model hertz tangential history rolling_friction %s" % mdl,
+                      pair_style=pair_style(mdl, p.get("torsion", False)),
+                      torsion_torque=bool(p.get("torsion", False)),
                       atom_i="atom 1 (id 1) is i; n_liggghts = (x1 - x2)/|x1 - x2|", kind=kind, motion=extra,
                       library_normal_U=U, command="cd inputs && %s -in in.%s -log log.%s -echo none" % (EXE, case, case),
                       input_script="inputs/in.%s" % case, data_file="inputs/data.%s" % case)
