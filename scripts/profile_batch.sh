@@ -7,7 +7,8 @@
 #     ROW       the driver row to profile (default batch_f64_avx512; see bench/bench.c)
 #     WORKLOAD  A or B (default A); CONTACTS (default 1200000)
 #
-# Needs perf and addr2line (binutils). Prints the share of the kernel's samples per part.
+# Needs perf and addr2line (binutils). Prints the share of the kernel's samples per part, then
+# the share that lands on instructions addressing the stack frame (rows and spilled values).
 set -eu
 row=${1:-batch_f64_avx512}
 workload=${2:-A}
@@ -62,5 +63,37 @@ total = sum(parts.values()) or 1
 for part, n in parts.most_common():
     print(f"{100 * n / total:5.1f}%  {part}")
 print(f"({total} samples)")
+EOF
+# How much of the kernel's time goes to instructions that address the stack frame (the block's
+# rows, and the SIMD values LLVM spills between the physics' steps), in the kernel function
+# with the most samples: its disassembly, and the samples that land on such instructions.
+hot=$(awk '{print $2}' "$out/ips" | python3 -c '
+import subprocess, sys
+ips = [int(l, 16) for l in sys.stdin.read().split()]
+syms = []
+for l in subprocess.run(["nm", "-S", sys.argv[1]], capture_output=True, text=True).stdout.splitlines():
+    f = l.split()
+    if len(f) == 4 and sys.argv[2] in f[3]:
+        syms.append((int(f[0], 16), int(f[1], 16)))
+s, z = max(syms, key=lambda t: sum(t[0] <= a < t[0] + t[1] for a in ips))
+print(f"{s:#x} {s + z:#x}")' "$out/driver" "$sym")
+set -- $hot
+objdump -d --no-show-raw-insn -M intel --start-address="$1" --stop-address="$2" "$out/driver" \
+  >"$out/hot.s"
+python3 - "$out/ips" "$out/hot.s" <<'EOF'
+import re, sys
+counts = {int(a, 16): int(c) for c, a in (l.split() for l in open(sys.argv[1]))}
+insns = {}
+for line in open(sys.argv[2]):
+    m = re.match(r"\s+([0-9a-f]+):\s+(.*)", line)
+    if m:
+        insns[int(m.group(1), 16)] = m.group(2)
+def stack(t):
+    return "rsp" in t or "rbp" in t
+hits = {a: c for a, c in counts.items() if a in insns}
+total = sum(hits.values()) or 1
+on_stack = sum(c for a, c in hits.items() if stack(insns[a]))
+print(f"hottest kernel: {len(insns)} instructions, {sum(map(stack, insns.values()))} address the stack;")
+print(f"{100 * on_stack / total:.1f}% of its samples land on those")
 EOF
 rm -rf "$out"

@@ -179,7 +179,7 @@ pub fn model_from(b: &mut Bytes) -> *mut rsl_model {
     for _ in 0..ops {
         let mut before: rsl_rolling_params = pattern();
         assert_eq!(unsafe { rsl_model_get_rolling(m, &mut before) }, 0);
-        let (s, what) = match b.u8() % 6 {
+        let (s, what) = match b.u8() % 7 {
             0 => (
                 unsafe { rsl_model_set_sliding(m, code(b, 2), param(b), param(b), param(b)) },
                 "rsl_model_set_sliding",
@@ -217,6 +217,10 @@ pub fn model_from(b: &mut Bytes) -> *mut rsl_model {
             4 => (
                 unsafe { rsl_model_set_geometry(m, code(b, 2), code(b, 2)) },
                 "rsl_model_set_geometry",
+            ),
+            5 => (
+                unsafe { rsl_model_set_torsion_torque(m, code(b, 2)) },
+                "rsl_model_set_torsion_torque",
             ),
             _ => (
                 unsafe { rsl_model_set_energy_tracking(m, code(b, 2)) },
