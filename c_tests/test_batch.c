@@ -129,7 +129,7 @@ void test_batch_skips_invalid_contacts(void) {
     double fn[NC];
     scene(p, pairs, fn);
     pairs[2 * 1 + 1] = 77;   /* contact 1: index out of range */
-    fn[3] = -1.0;            /* contact 3: negative normal force */
+    fn[3] = NAN;             /* contact 3: non-finite normal force */
     rsl_model *m = full_model();
     rsl_contact_state s[NC];
     memset(s, 0, sizeof s);
@@ -145,10 +145,10 @@ void test_batch_skips_invalid_contacts(void) {
     CHECK(rep.first_status == RSL_ERR_INVALID_ARGUMENT);
     CHECK(s[1].twisting_angle == 42.0 && s[3].twisting_angle == 43.0);
     CHECK(s[0].previous_normal.x != 0.0 && s[4].previous_normal.x != 0.0);
-    /* only the negative force: its own status */
+    /* only the NaN force: its own status */
     pairs[2 * 1 + 1] = 2;
     CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, s, f, t, &rep),
-                 RSL_ERR_NEGATIVE_NORMAL_FORCE);
+                 RSL_ERR_NON_FINITE);
     CHECK(rep.failed == 1 && rep.first_failed == 3);
     /* call-level errors process nothing */
     rsl_contact_state before[NC];

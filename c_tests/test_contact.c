@@ -115,9 +115,6 @@ void test_contact_bad_input_leaves_state_untouched(void) {
     bad.dt = 0.0;
     EXPECT_STEP_FAIL(rsl_contact_step(m, &a, &b, &bad, &st, &out), RSL_ERR_INVALID_TIME_STEP);
     bad = in;
-    bad.normal_force = -1.0;
-    EXPECT_STEP_FAIL(rsl_contact_step(m, &a, &b, &bad, &st, &out), RSL_ERR_NEGATIVE_NORMAL_FORCE);
-    bad = in;
     bad.normal_force = NAN;
     EXPECT_STEP_FAIL(rsl_contact_step(m, &a, &b, &bad, &st, &out), RSL_ERR_NON_FINITE);
     bad = in;
@@ -255,4 +252,39 @@ void test_liggghts_torsion_torque(void) {
     CHECK(strstr(rsl_last_error_message(), "LIGGGHTS_3_8") != NULL);
     CHECK_STATUS(rsl_model_set_torsion_torque(m, 0), RSL_OK);
     rsl_model_free(m);
+}
+
+/* A tensile normal force is applied as given, and the limits follow the preset's rule or the
+ * limit force. Spheres of radius 1 at 0 and 1.99 x (n = +x), body 1 sliding at (0, 1, 0): after
+ * one step of 1e-3 the trial sliding force is -k_t v dt = -10 along y; mu_s = 0.5, f_n = -10.
+ * Objective: limit max(f_n, 0) mu = 0, so F_t = 0. LAMMPS_2021: |f_n| mu = 5 (its Fncrit).
+ * Both: body 1 gets -f_n n = +10 x (pulled toward body 2). With limit_force 4: limit 2. */
+void test_contact_tensile_normal_force(void) {
+    const int32_t presets[2] = {RSL_PRESET_OBJECTIVE, RSL_PRESET_LAMMPS_2021};
+    const double want_ft[2] = {0.0, -5.0};
+    for (int k = 0; k < 2; k++) {
+        rsl_model *m = NULL;
+        CHECK_STATUS(rsl_model_new(presets[k], &m), RSL_OK);
+        CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e4, 0.0, 0.5), RSL_OK);
+        rsl_sphere a = sphere(0.0, 0.0, 1.0), b = sphere(1.99, 0.0, 1.0);
+        a.velocity.y = 1.0;
+        rsl_contact_input in;
+        memset(&in, 0, sizeof in);
+        in.normal_force = -10.0;
+        in.dt = 1e-3;
+        for (int with_limit = 0; with_limit <= 1; with_limit++) {
+            rsl_contact_state st;
+            CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+            in.flags = with_limit ? RSL_INPUT_LIMIT_FORCE : 0;
+            in.limit_force = 4.0;
+            rsl_contact_loads out;
+            CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &out), RSL_OK);
+            /* 1e-12: k_t v dt and the clip's scale are a few roundings of numbers of order 10. */
+            CHECK_CLOSE(out.force1.x, 10.0, 1e-12, 0);
+            CHECK_CLOSE(out.force1.y, with_limit ? -2.0 : want_ft[k], 1e-12, 0);
+            CHECK_CLOSE(out.sliding_force.y, with_limit ? -2.0 : want_ft[k], 1e-12, 0);
+            CHECK((out.slip_flags & RSL_SLIP_SLIDING) != 0);
+        }
+        rsl_model_free(m);
+    }
 }

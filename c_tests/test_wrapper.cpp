@@ -91,10 +91,10 @@ static void test_errors_are_exceptions() {
     const rsl_contact_state before = state;
     thrown = false;
     try {
-        m.step(a, b, input(-1.0, 1e-4), state);
+        m.step(a, b, input(1.0, -1e-4), state);
     } catch (const rollslide::error &e) {
         thrown = true;
-        EXPECT(e.status() == RSL_ERR_NEGATIVE_NORMAL_FORCE);
+        EXPECT(e.status() == RSL_ERR_INVALID_TIME_STEP);
     }
     EXPECT(thrown);
     EXPECT(same_bits(state, before));

@@ -78,12 +78,18 @@
 // Input flag: use `rsl_contact_input.sliding_damping` instead of the model's `gamma_t`.
 #define RSL_INPUT_SLIDING_DAMPING 2
 
-// Input flag: the setup pass of the preset's code (LAMMPS/YADE/objective: loads from the
-// stored history, no update; LIGGGHTS: one increment, not stored). The state is not written.
+// Input flag: this call is the setup pass that LAMMPS and LIGGGHTS make at the start of every
+// `run` command (before its first time step); a host reproducing them sets it on that call
+// only.
+// LAMMPS_2021: loads from the stored springs, no increment; its clip may still write the state.
+// LIGGGHTS_3_8: one rolling increment in the loads, nothing stored. YADE has no setup pass (its
+// first step already increments): a YADE host never sets the flag. For the objective and YADE
+// presets the flag gives the loads of the stored springs and leaves the state unwritten.
 #define RSL_INPUT_SETUP 4
 
-// Input flag: the limits use `rsl_contact_input.limit_force` (>= 0) instead of `normal_force`
-// (LAMMPS' `Fncrit`, an elastic normal force...).
+// Input flag: the limits use `rsl_contact_input.limit_force` (>= 0) instead of the preset's
+// rule on `normal_force` (LAMMPS' `Fncrit = |F_ne + 2 F_pulloff|` of its JKR and DMT models,
+// an elastic normal force, the compressive part plus a cohesive offset...).
 #define RSL_INPUT_LIMIT_FORCE 8
 
 // Input flag: use `rolling_stiffness` (k_r or k_theta by the model's form) for this contact.
@@ -266,7 +272,8 @@
 // The time step was not finite and > 0.
 #define RSL_ERR_INVALID_TIME_STEP 9
 
-// The normal force was negative (compressive positive is required).
+// No longer returned: a negative (tensile) normal force is accepted and applied as given. The
+// code stays reserved so that no other error takes its number.
 #define RSL_ERR_NEGATIVE_NORMAL_FORCE 10
 
 // A model parameter or law code was invalid; the detail message names it. The model is unchanged.
@@ -431,8 +438,12 @@ typedef struct rsl_decomposition {
 // Per-call inputs of a contact step. Zero-initialise it and set what the model needs:
 // `normal_force` and `dt` always.
 typedef struct rsl_contact_input {
-  // Normal force magnitude `f_n` (compressive positive, >= 0): applied to both bodies and
-  // used by every limit.
+  // Normal force `f_n`, signed: compressive positive, tensile (cohesive, or a dashpot pulling
+  // during unloading) negative. Applied to both bodies as given (body 1 gets `-f_n n`, body
+  // 2 `+f_n n`). The limits use `limit_force` with `RSL_INPUT_LIMIT_FORCE`, else the
+  // preset's rule: `max(f_n, 0)` for the objective and YADE_2023 presets (no friction while
+  // the contact pulls, as YADE without adhesion), `|f_n|` for LAMMPS_2021 and LIGGGHTS_3_8
+  // (LAMMPS' `Fncrit` of its non-cohesive models, LIGGGHTS' `|Fn|`).
   double normal_force;
   // Time step (> 0).
   double dt;
@@ -632,7 +643,7 @@ extern "C" {
 // they are not wanted).
 //
 // Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
-// centres, branch <= 0, negative normal force, non-finite result, energy terms included) are
+// centres, branch <= 0, non-finite result, energy terms included) are
 // skipped in the same pass: their state and loads are not written; every other contact is
 // processed. The call then returns the status `rsl_contact_step` would give for the first
 // skipped contact, and `report` gives its index and the number skipped. `RSL_OK` means every
@@ -734,8 +745,8 @@ int32_t rsl_contact_state_init(struct rsl_contact_state *state);
 // where the preset's code writes it at setup: LAMMPS).
 //
 // Errors: those of `rsl_decompose`, `RSL_ERR_INVALID_HANDLE`, `RSL_ERR_INVALID_TIME_STEP`,
-// `RSL_ERR_NEGATIVE_NORMAL_FORCE`, `RSL_ERR_INVALID_ARGUMENT` (an input the model needs is
-// missing or out of range, unknown flag), `RSL_ERR_NON_FINITE` (also for a non-finite state).
+// `RSL_ERR_INVALID_ARGUMENT` (an input the model needs is missing or out of range, unknown
+// flag), `RSL_ERR_NON_FINITE` (also for a non-finite state).
 //
 // # Safety
 // Every pointer must be valid for its type during the call; `state` and `out` must not

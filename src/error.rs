@@ -16,8 +16,6 @@ pub enum Error {
     NonPositiveBranch(&'static str),
     /// The time step was not finite and > 0.
     InvalidTimeStep,
-    /// The normal force was negative (compressive positive is required).
-    NegativeNormalForce,
     /// A model parameter out of its domain; the message names the parameter.
     InvalidParameter(String),
     /// A value out of its domain (option code, zero wall normal, bad parameter...), with the reason.
@@ -40,9 +38,6 @@ impl fmt::Display for Error {
                 "branch length {what} <= 0: overlap too deep for the branch rule"
             ),
             Error::InvalidTimeStep => write!(f, "time step dt must be finite and > 0"),
-            Error::NegativeNormalForce => {
-                write!(f, "normal force must be >= 0 (compressive positive)")
-            }
             Error::InvalidParameter(why) => write!(f, "invalid parameter: {why}"),
             Error::InvalidArgument(why) => write!(f, "invalid argument: {why}"),
         }

@@ -3,8 +3,9 @@
 //! with Debian's `lmp`), fed through the library with the inputs LAMMPS saw.
 //!
 //! The host (this test) owns the normal force: it passes LAMMPS' signed normal force (elastic
-//! plus damping) as `normal_force` (clamped at 0, the rest added back) and `Fncrit = |F_n|` as the
-//! limit force, and the per-contact tangential damping `xgammat * eta_n * damp` LAMMPS uses.
+//! plus damping; tensile in a few steps of `sds_roll_reverse_unload`) as `normal_force`, with no
+//! limit force (the preset's rule `|f_n|` is LAMMPS' `Fncrit` for these normal models), and the
+//! per-contact tangential damping `xgammat * eta_n * damp` LAMMPS uses.
 //! Tolerance: both codes evaluate the same formulas in double, in a different order, so each
 //! load differs by a few ulps of the loads the case handles (the largest load or `Fncrit` of
 //! the case: rounding is relative to the numbers in play, not to a load that happens to pass
@@ -96,21 +97,15 @@ fn lammps_2021_preset_reproduces_lammps_step_by_step() {
             };
             let prefactor = law["eta_n"].as_f64().unwrap() * damp;
             let fn_signed = row.f("fn_signed");
-            let mut input = StepInput::new(fn_signed.max(0.0), dt);
-            input.limit_force = Some(fn_signed.abs());
+            let mut input = StepInput::new(fn_signed, dt);
             input.sliding_damping = Some(law["xgammat"].as_f64().unwrap() * prefactor);
             input.setup = step == 0;
             let out = contact_step_pair(&model, &b1, &b2, &input, &mut state)
                 .unwrap_or_else(|e| panic!("{name} step {step}: {e}"));
-            let n = (b2.position - b1.position).normalize();
-            let force1 = out.loads.force1 - n * (fn_signed - fn_signed.max(0.0));
             let pairs: [(Vector3<f64>, Vector3<f64>); 4] = [
-                (force1, row.v("f1{}")),
+                (out.loads.force1, row.v("f1{}")),
                 (out.loads.torque1, row.v("t1{}")),
-                (
-                    -out.loads.force1 - n * (fn_signed.max(0.0) - fn_signed),
-                    row.v("f2{}"),
-                ),
+                (-out.loads.force1, row.v("f2{}")),
                 (out.loads.torque2, row.v("t2{}")),
             ];
             case_scale = pairs

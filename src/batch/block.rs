@@ -440,8 +440,8 @@ struct LaneResults<L: Lanes> {
 }
 
 /// The lanes whose inputs the per-contact checked step accepts, as far as the geometry does not
-/// show it: finite motion, state and `f_n`, `f_n >= 0`, and a finite `k_n > 0` when the model
-/// reads it.
+/// show it: finite motion, state and `f_n` (of either sign), and a finite `k_n > 0` when the
+/// model reads it.
 #[inline(always)]
 fn inputs_ok<L: Lanes>(
     body1: &Sphere<L>,
@@ -465,7 +465,7 @@ fn inputs_ok<L: Lanes>(
     ] {
         acc = probe(acc, v);
     }
-    let mut ok = acc.simd_eq(zero) & force.simd_ge(zero);
+    let mut ok = acc.simd_eq(zero);
     if needs_kn {
         ok = ok & stiffness.simd_gt(zero) & zf(stiffness).simd_eq(zero);
     }
@@ -511,8 +511,8 @@ fn step_input<L: Lanes>(force: L, stiffness: L, dt: f64) -> StepInput<L> {
 }
 
 /// One step of `L::N` contacts: the validation of the per-contact checked step (finite inputs,
-/// radii > 0, `d >= eps (R1 + R2)`, a unit normal, `l1, l2 > 0`, `f_n >= 0`, `k_n > 0` when the
-/// model reads it, finite results), lane-wise, and the generic physics.
+/// radii > 0, `d >= eps (R1 + R2)`, a unit normal, `l1, l2 > 0`, finite `f_n` of either sign,
+/// `k_n > 0` when the model reads it, finite results), lane-wise, and the generic physics.
 #[inline(always)]
 fn step_inputs<L: Lanes>(
     model: &Model,

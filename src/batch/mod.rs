@@ -211,7 +211,7 @@ pub trait StepAccess: Gather {
     }
     /// The two bodies, or `None` when the contact's particle indices are invalid.
     fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)>;
-    /// Normal force magnitude `f_n` (>= 0).
+    /// Normal force `f_n` (compressive positive, tensile negative).
     fn normal_force(&self, c: usize) -> f64;
     /// Normal stiffness `k_n` (read only when the model needs it).
     fn normal_stiffness(&self, c: usize) -> f64;

@@ -640,7 +640,7 @@ unsafe fn report_out<'a>(
 /// they are not wanted).
 ///
 /// Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
-/// centres, branch <= 0, negative normal force, non-finite result, energy terms included) are
+/// centres, branch <= 0, non-finite result, energy terms included) are
 /// skipped in the same pass: their state and loads are not written; every other contact is
 /// processed. The call then returns the status `rsl_contact_step` would give for the first
 /// skipped contact, and `report` gives its index and the number skipped. `RSL_OK` means every

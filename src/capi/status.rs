@@ -25,7 +25,8 @@ pub const RSL_ERR_MISALIGNED: i32 = 7;
 pub const RSL_ERR_INTERNAL: i32 = 8;
 /// The time step was not finite and > 0.
 pub const RSL_ERR_INVALID_TIME_STEP: i32 = 9;
-/// The normal force was negative (compressive positive is required).
+/// No longer returned: a negative (tensile) normal force is accepted and applied as given. The
+/// code stays reserved so that no other error takes its number.
 pub const RSL_ERR_NEGATIVE_NORMAL_FORCE: i32 = 10;
 /// A model parameter or law code was invalid; the detail message names it. The model is unchanged.
 pub const RSL_ERR_INVALID_PARAMETER: i32 = 11;
@@ -57,7 +58,6 @@ impl FfiError {
             FfiError::Core(Error::NonPositiveBranch(_)) => RSL_ERR_NONPOSITIVE_BRANCH,
             FfiError::Core(Error::InvalidArgument(_)) => RSL_ERR_INVALID_ARGUMENT,
             FfiError::Core(Error::InvalidTimeStep) => RSL_ERR_INVALID_TIME_STEP,
-            FfiError::Core(Error::NegativeNormalForce) => RSL_ERR_NEGATIVE_NORMAL_FORCE,
             FfiError::Core(Error::InvalidParameter(_)) => RSL_ERR_INVALID_PARAMETER,
             FfiError::InvalidHandle => RSL_ERR_INVALID_HANDLE,
             FfiError::NullPointer(_) => RSL_ERR_NULL_POINTER,

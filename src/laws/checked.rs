@@ -45,9 +45,6 @@ fn check_input<T: RealField + Copy>(
     if !input.normal_force.is_finite() {
         return Err(Error::NonFinite("normal force"));
     }
-    if input.normal_force < T::zero() {
-        return Err(Error::NegativeNormalForce);
-    }
     if !(input.dt.is_finite() && input.dt > T::zero()) {
         return Err(Error::InvalidTimeStep);
     }

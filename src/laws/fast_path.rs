@@ -111,10 +111,10 @@ fn inputs_in_range(
     let min = |a: f64, b: f64| if a < b { a } else { b };
     let smallest = min(
         min(
-            min(input.normal_force, input.normal_stiffness),
-            min(input.contact_radius, input.mass1),
+            min(input.normal_stiffness, input.contact_radius),
+            min(input.mass1, input.mass2),
         ),
-        min(min(input.mass2, input.inertia1), input.inertia2),
+        min(input.inertia1, input.inertia2),
     );
     let mut ok = pair_geometry_in_range(body1.radius, body2.radius, g)
         // Finite centres can be too far apart for a finite distance.

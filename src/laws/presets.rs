@@ -17,6 +17,18 @@ pub enum SlidingRate {
     YadeScaled,
 }
 
+/// The force the limits use when the host gives none (`StepInput::limit_force`), from the
+/// signed normal force `f_n` (compressive positive, tensile negative).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TensionLimit {
+    /// `max(f_n, 0)`: no friction while the contact pulls (objective; YADE's shear limit
+    /// `max(0, Fn tan(phi))` without adhesion).
+    Compressive,
+    /// `|f_n|` (LAMMPS' `Fncrit = |F_n|` of its non-cohesive normal models; LIGGGHTS'
+    /// `|Fn|` in its sliding and EPSD limits).
+    Magnitude,
+}
+
 /// What the setup pass (`StepInput::setup`) does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SetupRule {
@@ -49,6 +61,8 @@ pub struct Conventions {
     pub cdt_liggghts: bool,
     /// LAMMPS transports a spring only when `|xi . n| k > 1e-10 mu f_n`.
     pub lammps_rescale_threshold: bool,
+    /// The limits' force without `limit_force`.
+    pub tension_limit: TensionLimit,
     /// The setup pass.
     pub setup: SetupRule,
 }
@@ -66,6 +80,7 @@ impl Preset {
             twist_vector: false,
             cdt_liggghts: false,
             lammps_rescale_threshold: false,
+            tension_limit: TensionLimit::Compressive,
             setup: SetupRule {
                 sliding_increment: false,
                 rolling_increment: false,
@@ -80,6 +95,7 @@ impl Preset {
                 rolling_clip: ClipRule::Lammps,
                 twisting_clip: ClipRule::Lammps,
                 lammps_rescale_threshold: true,
+                tension_limit: TensionLimit::Magnitude,
                 setup: SetupRule {
                     sliding_increment: false,
                     rolling_increment: false,
@@ -98,6 +114,7 @@ impl Preset {
                 sliding_clip: ClipRule::SpringOnly,
                 rolling_storage: Storage::Load,
                 cdt_liggghts: true,
+                tension_limit: TensionLimit::Magnitude,
                 setup: SetupRule {
                     sliding_increment: false,
                     rolling_increment: true,

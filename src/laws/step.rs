@@ -12,7 +12,7 @@ use crate::laws::model::{
     DampingMode, Model, RollingDamping, RollingForm, RollingLaw, RollingStiffness, SlidingLaw,
     TwistingLaw,
 };
-use crate::laws::presets::{Conventions, SlidingRate};
+use crate::laws::presets::{Conventions, SlidingRate, TensionLimit};
 use crate::laws::spring::{
     scalar_spring, vector_spring, ClipRule, SpringCoefficients, SpringEnergy, Storage,
 };
@@ -23,8 +23,10 @@ use crate::scalar::{lit, mask, rescale_overflowed, select, select3, tangential, 
 /// Per-call inputs of a contact step besides the bodies.
 #[derive(Clone, Copy, Debug)]
 pub struct StepInput<T: Real> {
-    /// Normal force magnitude `f_n` on the contact (compressive positive, >= 0): applied to the
-    /// bodies, and used by every limit unless `limit_force` is given.
+    /// Normal force `f_n` on the contact, signed: compressive positive, tensile (cohesive,
+    /// or a dashpot pulling during unloading) negative. Applied to the bodies as given (body 1
+    /// gets `-f_n n`). The limits use `limit_force` when given, else the preset's rule:
+    /// `max(f_n, 0)` (objective, YADE_2023) or `|f_n|` (LAMMPS_2021, LIGGGHTS_3_8).
     pub normal_force: T,
     /// Time step (> 0).
     pub dt: T,
@@ -58,11 +60,14 @@ pub struct StepInput<T: Real> {
     pub twisting_damping: Option<T>,
     /// Per-contact twisting limit length `mu_tw` (`sds`).
     pub twisting_friction: Option<T>,
-    /// The force (>= 0) the limits use instead of `normal_force` (LAMMPS' `Fncrit`, an elastic
-    /// normal force, an adhesive offset...).
+    /// The force (>= 0) the limits use instead of the preset's rule on `normal_force` (LAMMPS'
+    /// `Fncrit = |F_ne + 2 F_pulloff|` of its JKR and DMT models, an elastic normal force, the
+    /// compressive part plus a cohesive offset...).
     pub limit_force: Option<T>,
-    /// The setup pass of the preset's code: no increments (LIGGGHTS: one rolling increment),
-    /// and the state is not written (LAMMPS: its clip writes it).
+    /// The setup pass LAMMPS and LIGGGHTS make at the start of every run: no increments (LIGGGHTS:
+    /// one rolling increment), and the state is not written (LAMMPS: its clip writes it). YADE
+    /// has none (its first step increments); for the objective and YADE presets it gives the
+    /// loads of the stored springs.
     pub setup: bool,
 }
 
@@ -271,7 +276,15 @@ pub fn contact_step_with_geometry<T: Real>(
     let w1 = body1.angular_velocity;
     let dt = input.dt;
     let f_n = input.normal_force;
-    let f_limit = input.limit_force.unwrap_or(f_n);
+    // The limits' force: the host's, or the preset's rule for a signed f_n (for f_n >= 0, and
+    // -0, both rules give f_n itself, bit for bit).
+    let f_limit = input.limit_force.unwrap_or_else(|| {
+        let tensile = f_n.simd_lt(zero);
+        match conv.tension_limit {
+            TensionLimit::Compressive => select(tensile, zero, f_n),
+            TensionLimit::Magnitude => select(tensile, -f_n, f_n),
+        }
+    });
     let energy_on = model.track_energy;
     let (increment_sliding, increment_rolling, store) = if input.setup {
         (
