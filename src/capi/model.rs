@@ -188,6 +188,15 @@ fn bad(what: &str, value: i32) -> Error {
     Error::InvalidParameter(format!("{what} code {value} is not defined"))
 }
 
+/// A C on/off flag: 0 or 1, anything else refused naming `what`.
+fn on_off(value: i32, what: &str) -> Result<bool, Error> {
+    match value {
+        0 => Ok(false),
+        1 => Ok(true),
+        other => Err(bad(what, other)),
+    }
+}
+
 fn parse_preset(code: i32) -> Result<Preset, Error> {
     Ok(match code {
         RSL_PRESET_OBJECTIVE => Preset::Objective,
@@ -498,11 +507,7 @@ pub unsafe extern "C" fn rsl_model_set_transport(
 #[no_mangle]
 pub unsafe extern "C" fn rsl_model_set_energy_tracking(model: *mut rsl_model, enabled: i32) -> i32 {
     guard(|| {
-        let on = match enabled {
-            0 => false,
-            1 => true,
-            other => return Err(bad("energy tracking flag (0 or 1)", other).into()),
-        };
+        let on = on_off(enabled, "energy tracking flag (0 or 1)")?;
         // SAFETY: forwarded contract.
         unsafe {
             update(model, |m| {
@@ -530,11 +535,7 @@ pub unsafe extern "C" fn rsl_model_set_energy_tracking(model: *mut rsl_model, en
 #[no_mangle]
 pub unsafe extern "C" fn rsl_model_set_torsion_torque(model: *mut rsl_model, enabled: i32) -> i32 {
     guard(|| {
-        let on = match enabled {
-            0 => false,
-            1 => true,
-            other => return Err(bad("torsion torque flag (0 or 1)", other).into()),
-        };
+        let on = on_off(enabled, "torsion torque flag (0 or 1)")?;
         // SAFETY: forwarded contract.
         unsafe {
             update(model, |m| {
