@@ -4,27 +4,38 @@
 #   1. compiled with -fsanitize=address,undefined -fno-sanitize-recover=all (gcc; clang if
 #      CC=clang), every test function run one by one: any ASan or UBSan report fails the run;
 #   2. compiled without sanitizers and run under valgrind's memcheck (--error-exitcode,
-#      --leak-check=full, definite and indirect leaks are errors), every test function run.
+#      --leak-check=full, definite and indirect leaks are errors), every test function run,
+#      against the release library (what hosts link). Valgrind 3.19 (Debian 12) cannot decode
+#      every AVX encoding LLVM emits: the stress profile's AVX2 per-contact kernel contains a
+#      register-to-register `vmovq` in its 0xD6 form, which valgrind rejects as an illegal
+#      opcode although every CPU with AVX runs it. Such a decoder gap is reported as what it is
+#      (and still fails the run); ASan runs the same kernels natively.
 # The Rust library itself is not instrumented (ASan instruments the C side and intercepts
 # malloc/free for both); valgrind checks both sides.
 #
 # Usage: scripts/sanitizers.sh [--no-valgrind]
-# Env: CC (default cc), PROFILE (cargo profile of the library, default release).
+# Env: CC (default cc), PROFILE (cargo profile of the library under ASan, default release),
+#      VALGRIND_PROFILE (cargo profile of the library under valgrind, default release).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 CC=${CC:-cc}
 PROFILE=${PROFILE:-release}
+VALGRIND_PROFILE=${VALGRIND_PROFILE:-release}
 run_valgrind=1
 [ "${1:-}" = "--no-valgrind" ] && run_valgrind=0
 
-if [ "$PROFILE" = "dev" ]; then
-  cargo build --lib
-  lib=target/debug/librollslide.a
-else
-  cargo build --lib --profile "$PROFILE"
-  lib=target/$PROFILE/librollslide.a
-fi
+# Builds the static library in cargo profile $1 and prints its path.
+build_lib() {
+  if [ "$1" = "dev" ]; then
+    cargo build --lib >&2
+    echo target/debug/librollslide.a
+  else
+    cargo build --lib --profile "$1" >&2
+    echo "target/$1/librollslide.a"
+  fi
+}
+lib=$(build_lib "$PROFILE")
 native_libs=(-lgcc_s -lutil -lrt -lpthread -lm -ldl -lc)
 out=target/sanitizers
 mkdir -p "$out"
@@ -53,13 +64,18 @@ if [ "$run_valgrind" -eq 1 ]; then
   if ! command -v valgrind > /dev/null; then
     echo "valgrind not installed (apt-get install valgrind)"; exit 1
   fi
-  echo "== valgrind memcheck"
-  "$CC" "${common[@]}" "${sources[@]}" "$lib" "${native_libs[@]}" -o "$out/c_tests_plain"
+  echo "== valgrind memcheck (library profile $VALGRIND_PROFILE)"
+  vg_lib=$(build_lib "$VALGRIND_PROFILE")
+  "$CC" "${common[@]}" "${sources[@]}" "$vg_lib" "${native_libs[@]}" -o "$out/c_tests_plain"
   failed=0
   for t in "${tests[@]}"; do
     if ! valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
         "$out/c_tests_plain" "$t" > "$out/valgrind_$t.log" 2>&1; then
       echo "FAILED under valgrind: $t"; cat "$out/valgrind_$t.log"; failed=$((failed + 1))
+      if grep -q "Illegal opcode" "$out/valgrind_$t.log"; then
+        echo "  (valgrind's decoder lacks an instruction of the library's code, not a memory error:"
+        echo "   see the note at the top of scripts/sanitizers.sh; the test passes natively and under ASan)"
+      fi
     fi
   done
   echo "valgrind: $((${#tests[@]} - failed)) passed, $failed failed"
