@@ -678,11 +678,12 @@ void test_bad_input_contact_step_every_field_and_pointer(void) {
             int is_dt = f->offset == offsetof(rsl_contact_input, dt);
             int is_limit = f->offset == offsetof(rsl_contact_input, rolling_friction) ||
                            f->offset == offsetof(rsl_contact_input, twisting_friction) ||
+                           f->offset == offsetof(rsl_contact_input, limit_force) ||
                            f->offset == offsetof(rsl_contact_input, mass2) ||
                            f->offset == offsetof(rsl_contact_input, inertia2);
             if (is_limit && v == 1) {
-                /* +inf friction is documented as "no limit", +inf mass2/inertia2 as a fixed
-                 * body 2: accepted */
+                /* +inf friction or limit force is documented as "no limit", +inf
+                 * mass2/inertia2 as a fixed body 2: accepted */
                 rsl_contact_state copy = st;
                 CHECK_STATUS(rsl_contact_step(m, &a, &b, &bad, &copy, &out), RSL_OK);
                 continue;
@@ -857,6 +858,7 @@ void test_bad_input_contact_step_wall_every_field_and_pointer(void) {
             int is_dt = f->offset == offsetof(rsl_contact_input, dt);
             int is_limit = f->offset == offsetof(rsl_contact_input, rolling_friction) ||
                            f->offset == offsetof(rsl_contact_input, twisting_friction) ||
+                           f->offset == offsetof(rsl_contact_input, limit_force) ||
                            f->offset == offsetof(rsl_contact_input, mass2) ||
                            f->offset == offsetof(rsl_contact_input, inertia2);
             if (is_limit && v == 1) continue; /* +inf: no limit / fixed body (tested with the pair) */

@@ -288,3 +288,143 @@ void test_contact_tensile_normal_force(void) {
         rsl_model_free(m);
     }
 }
+
+/* +INFINITY as "no limit" (rsl_contact_input.limit_force, rolling_friction and
+ * twisting_friction): the step equals one with a finite limit too large to be reached, a zero
+ * coefficient still gives a zero limit under an infinite limit force, an infinite coefficient
+ * stays "no limit" at zero force; where a coefficient is not a limit, +INFINITY is refused
+ * and the state is left as it was. */
+void test_contact_infinite_limits(void) {
+    rsl_model *m = gear_model(); /* objective: EPSD rolling, sliding mu_s 0.5, SDS twisting */
+    rsl_sphere a = sphere(0.0, 2.0, 0.7), b = sphere(1.39, -1.0, 0.7);
+    a.velocity.y = 0.3;
+    a.angular_velocity.x = 0.8; /* some twist */
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.normal_force = 10.0;
+    in.dt = 1e-3;
+    rsl_contact_state st;
+    rsl_contact_loads inf_out, big_out;
+    /* 1. limit_force = +inf against 1e300: no limit is reached in either, same bits. */
+    in.flags = RSL_INPUT_LIMIT_FORCE;
+    for (int step = 0; step < 2; step++) {
+        in.limit_force = step ? 1e300 : INFINITY;
+        CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+        for (int i = 0; i < 50; i++) {
+            CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, step ? &big_out : &inf_out),
+                         RSL_OK);
+        }
+    }
+    CHECK(memcmp(&inf_out, &big_out, sizeof inf_out) == 0);
+    CHECK(inf_out.slip_flags == 0);
+    CHECK(inf_out.sliding_force.y != 0.0 && inf_out.rolling_moment.z != 0.0);
+    /* 2. mu_s = 0 under an infinite limit force: zero sliding force (0 inf is not NaN). */
+    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e3, 0.0, 0.0), RSL_OK);
+    in.limit_force = INFINITY;
+    CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+    CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &inf_out), RSL_OK);
+    CHECK_VEC(inf_out.sliding_force, 0.0, 0.0, 0.0, 0.0);
+    CHECK((inf_out.slip_flags & RSL_SLIP_SLIDING) != 0);
+    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e3, 0.0, 0.5), RSL_OK);
+    /* 3. rolling and twisting coefficients +inf at zero limit force (a tensile f_n under the
+     * objective rule max(f_n, 0)): unlimited, as a huge finite limit. */
+    in.normal_force = -5.0;
+    for (int k = 0; k < 2; k++) {
+        in.flags = RSL_INPUT_ROLLING_FRICTION | RSL_INPUT_TWISTING_FRICTION;
+        in.rolling_friction = INFINITY;
+        in.twisting_friction = INFINITY;
+        if (k) {
+            in.flags |= RSL_INPUT_LIMIT_FORCE;
+            in.limit_force = 1e300;
+            in.rolling_friction = in.twisting_friction = 1.0;
+        }
+        CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+        for (int i = 0; i < 50; i++) {
+            CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, k ? &big_out : &inf_out), RSL_OK);
+        }
+    }
+    CHECK(memcmp(&inf_out.rolling_moment, &big_out.rolling_moment, sizeof(rsl_vec3)) == 0);
+    CHECK(memcmp(&inf_out.twisting_torque, &big_out.twisting_torque, sizeof(rsl_vec3)) == 0);
+    CHECK(inf_out.rolling_moment.z != 0.0 && inf_out.twisting_torque.x != 0.0);
+    CHECK((inf_out.slip_flags & (RSL_SLIP_ROLLING | RSL_SLIP_TWISTING)) == 0);
+    /* 4. Refusals where the coefficient is not a limit; state and model untouched. */
+    in.normal_force = 10.0;
+    in.normal_stiffness = 1e4;
+    rsl_rolling_params p;
+    CHECK_STATUS(rsl_model_get_rolling(m, &p), RSL_OK);
+    rsl_rolling_params derived = p;
+    derived.stiffness_rule = RSL_STIFFNESS_EPSD;
+    derived.friction = INFINITY;
+    CHECK_STATUS(rsl_model_set_rolling(m, &derived), RSL_ERR_INVALID_PARAMETER);
+    derived.friction = 0.1;
+    CHECK_STATUS(rsl_model_set_rolling(m, &derived), RSL_OK);
+    rsl_rolling_params cdt = p;
+    cdt.law = RSL_ROLLING_CDT;
+    for (int k = 0; k < 3; k++) {
+        CHECK_STATUS(rsl_model_set_rolling(m, k == 0 ? &derived : &cdt), RSL_OK);
+        in.flags = 0;
+        CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+        CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &big_out), RSL_OK);
+        in.flags = k == 2 ? RSL_INPUT_LIMIT_FORCE : RSL_INPUT_ROLLING_FRICTION;
+        in.rolling_friction = INFINITY;
+        in.limit_force = INFINITY;
+        rsl_contact_state kept = st;
+        CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &inf_out),
+                     RSL_ERR_INVALID_ARGUMENT);
+        CHECK(memcmp(&kept, &st, sizeof st) == 0);
+        CHECK(strstr(rsl_last_error_message(), "+inf") != NULL);
+    }
+    /* The derived stiffness with a per-contact stiffness given: the coefficient is a limit. */
+    CHECK_STATUS(rsl_model_set_rolling(m, &derived), RSL_OK);
+    in.flags = RSL_INPUT_ROLLING_FRICTION | RSL_INPUT_ROLLING_STIFFNESS;
+    in.rolling_stiffness = 50.0;
+    CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &inf_out), RSL_OK);
+    rsl_model_free(m);
+}
+
+/* The end of a contact. The host owns it: a separated pair is still stepped (a cohesive law
+ * acts past separation), the decomposition's overlap turns negative, and the host resets the
+ * state when it ends the contact. After the reset, the next touch starts exactly as a fresh
+ * contact (same bits); without it, the old spring acts again. */
+void test_contact_end_and_reset(void) {
+    rsl_model *m = gear_model();
+    rsl_sphere a = sphere(0.0, 0.0, 1.0), b = sphere(1.99, 0.0, 1.0);
+    a.velocity.y = 1.0; /* sliding along y */
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.normal_force = 10.0;
+    in.dt = 1e-3;
+    rsl_contact_state st, fresh;
+    rsl_contact_loads out, fresh_out;
+    CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+    for (int i = 0; i < 20; i++) CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &out), RSL_OK);
+    /* 20 steps of 1e-3 at 1: |xi| = 0.02, k_t |xi| = 20 > mu_s f_n = 5: at the limit. */
+    CHECK_CLOSE(out.sliding_force.y, -5.0, 1e-12, 0);
+    /* The spheres separate: the overlap is negative, and a step is still accepted (here with
+     * a tensile force, as a cohesive law would give). */
+    rsl_sphere apart = b;
+    apart.position.x = 2.01;
+    rsl_decomposition d;
+    CHECK_STATUS(rsl_decompose(&a, &apart, NULL, &d), RSL_OK);
+    CHECK_CLOSE(d.overlap, -0.01, 1e-15, 0);
+    rsl_contact_state kept = st;
+    in.normal_force = -1.0;
+    CHECK_STATUS(rsl_contact_step(m, &a, &apart, &in, &kept, &out), RSL_OK);
+    in.normal_force = 10.0;
+    /* The pair touches again. Without a reset the old spring acts at once (at its limit). */
+    kept = st;
+    CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &kept, &out), RSL_OK);
+    CHECK_CLOSE(out.sliding_force.y, -5.0, 1e-12, 0);
+    /* With the reset the host does when the contact ends: a fresh contact, bit for bit. */
+    CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+    memset(&fresh, 0, sizeof fresh);
+    CHECK(memcmp(&st, &fresh, sizeof st) == 0);
+    CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &out), RSL_OK);
+    CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &fresh, &fresh_out), RSL_OK);
+    CHECK(memcmp(&out, &fresh_out, sizeof out) == 0);
+    CHECK(memcmp(&st, &fresh, sizeof st) == 0);
+    /* One step of 1e-3 at 1: k_t v dt = 1 (the damping is 0). */
+    CHECK_CLOSE(out.sliding_force.y, -1.0, 1e-12, 0);
+    CHECK_STATUS(rsl_contact_state_init(NULL), RSL_ERR_NULL_POINTER);
+    rsl_model_free(m);
+}

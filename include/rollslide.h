@@ -336,6 +336,14 @@ typedef struct rsl_batch_options {
 
 // The history a host stores for each contact: plain data, copy it freely. All bytes zero
 // (`rsl_contact_state_init` or memset) is a fresh contact.
+//
+// The host decides when a contact begins and ends; the library steps any pair it is given,
+// touching or not (a cohesive contact keeps acting past first separation, and only the host
+// knows its law). When the host ends a contact (the pair no longer overlaps, or leaves the
+// neighbour list, or a cohesive bond breaks), it resets the state, as LAMMPS, LIGGGHTS and
+// YADE drop a contact's history: otherwise the stored springs act again, with their old
+// loads, when the pair touches later. The overlap is the host's own (it computed `f_n` from
+// it), or `rsl_decomposition.overlap` (negative once the spheres separate).
 typedef struct rsl_contact_state {
   // Sliding spring `xi_s` (length, tangential). YADE preset: the elastic shear force on body 1.
   struct rsl_vec3 sliding_spring;
@@ -464,19 +472,26 @@ typedef struct rsl_contact_input {
   double sliding_stiffness;
   // Per-contact `gamma_t`, used with `RSL_INPUT_SLIDING_DAMPING`.
   double sliding_damping;
-  // Force used by the limits, with `RSL_INPUT_LIMIT_FORCE`.
+  // Force used by the limits (>= 0), with `RSL_INPUT_LIMIT_FORCE`. +INFINITY: no limit
+  // (every limit is infinite, except that a zero coefficient still gives a zero limit);
+  // refused with `RSL_ERR_INVALID_ARGUMENT` for the cdt rolling law outside LIGGGHTS_3_8,
+  // whose moment is `mu_r R_r` times this force.
   double limit_force;
   // Per-contact rolling stiffness, with `RSL_INPUT_ROLLING_STIFFNESS`.
   double rolling_stiffness;
   // Per-contact rolling damping, with `RSL_INPUT_ROLLING_DAMPING`.
   double rolling_damping;
-  // Per-contact rolling limit coefficient, with `RSL_INPUT_ROLLING_FRICTION` (+INFINITY: no limit).
+  // Per-contact rolling limit coefficient, with `RSL_INPUT_ROLLING_FRICTION` (+INFINITY: no
+  // limit, even at zero force). Refused with `RSL_ERR_INVALID_ARGUMENT` where it is not a
+  // limit: for cdt (it sets the moment) and for the `RSL_STIFFNESS_EPSD`/`EPSD3` rules
+  // without `RSL_INPUT_ROLLING_STIFFNESS` (they derive the stiffness from it).
   double rolling_friction;
   // Per-contact twisting stiffness, with `RSL_INPUT_TWISTING_STIFFNESS`.
   double twisting_stiffness;
   // Per-contact twisting damping, with `RSL_INPUT_TWISTING_DAMPING`.
   double twisting_damping;
-  // Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no limit).
+  // Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no
+  // limit, even at zero force).
   double twisting_friction;
   // OR of `RSL_INPUT_*`.
   uint32_t flags;
@@ -599,7 +614,10 @@ typedef struct rsl_rolling_params {
   // `gamma_r` (force time/length), `c_theta` (moment time/rad), or the damping ratio
   // (dimensionless), >= 0.
   double damping;
-  // `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
+  // `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0; +INFINITY for
+  // no limit, except where the coefficient is not a limit and must be finite: `RSL_ROLLING_CDT`
+  // (it sets the moment) and the `RSL_STIFFNESS_EPSD`/`RSL_STIFFNESS_EPSD3` rules (they derive
+  // the stiffness from it).
   double friction;
   // cdt: rate `|(w1 - w2)_t|` (rad/time; `|w1 - w2|` with `rsl_model_set_torsion_torque`)
   // below which the moment is zero, >= 0.
@@ -733,7 +751,8 @@ uint32_t rsl_batch_simd_support(void);
 // `model` must be a live model; `scene` NULL or writable.
 int32_t rsl_batch_scene(const struct rsl_model *model, uint32_t *scene);
 
-// Resets a contact state to a fresh contact (all zero).
+// Resets a contact state to a fresh contact (all zero): call it when the contact ends (see
+// `rsl_contact_state`), or on a new contact's state before its first step.
 //
 // # Safety
 // `state` must be NULL or point to a writable `rsl_contact_state`.
@@ -930,8 +949,8 @@ int32_t rsl_model_set_geometry(struct rsl_model *model,
                                int32_t branch_rule,
                                int32_t rolling_radius_rule);
 
-// Sets the sliding law (`RSL_SLIDING_*`) with `k_t` (force/length), `gamma_t` (force
-// time/length) and `mu_s`, each finite and >= 0.
+// Sets the sliding law (`RSL_SLIDING_*`) with `k_t` (force/length) and `gamma_t` (force
+// time/length), finite and >= 0, and `mu_s` (dimensionless), >= 0 or +INFINITY for no limit.
 //
 // # Safety
 // As `rsl_model_set_geometry`.
@@ -941,9 +960,9 @@ int32_t rsl_model_set_sliding(struct rsl_model *model,
                               double damping,
                               double friction);
 
-// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` (moment
-// time/rad) and `mu_tw`
-// (a length: the limit is `mu_tw f_n`), each finite and >= 0. `RSL_TWISTING_MARSHALL` derives
+// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad) and `gamma_tw` (moment
+// time/rad), finite and >= 0, and `mu_tw` (a length: the limit is `mu_tw f_n`), >= 0 or
+// +INFINITY for no limit. `RSL_TWISTING_MARSHALL` derives
 // its coefficients from the sliding law and ignores these three.
 //
 // # Safety

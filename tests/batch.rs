@@ -24,7 +24,8 @@ fn v(x: rollslide::scalar::Vec3<f64>) -> rsl_vec3 {
     }
 }
 
-/// The models of every scene kernel, plus two that run the generic kernel.
+/// The models of every scene kernel, one of them without limits, plus three that run the
+/// generic kernel.
 fn models() -> Vec<(Model, Scene)> {
     let full = full_model(Preset::Objective, Transport::Exact);
     let mut yade = full_model(Preset::Yade2023, Transport::FirstOrder);
@@ -42,7 +43,15 @@ fn models() -> Vec<(Model, Scene)> {
     liggghts.rolling.friction = 0.05;
     liggghts.torsion_torque = true;
     liggghts.validate().unwrap();
+    // No limits (+inf coefficients): a tensile contact's zero limit force times +inf must
+    // give "no limit" in every lane, not NaN.
+    let mut unlimited = full;
+    unlimited.sliding.friction = f64::INFINITY;
+    unlimited.rolling.friction = f64::INFINITY;
+    unlimited.twisting.friction = f64::INFINITY;
+    unlimited.validate().unwrap();
     let mut models = scene_models();
+    models.push((unlimited, Scene::FullExact));
     models.push((yade, Scene::Generic));
     models.push((viscous, Scene::Generic));
     models.push((liggghts, Scene::Generic));

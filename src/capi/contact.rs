@@ -58,6 +58,14 @@ pub const RSL_SLIP_TWISTING: u32 = 4;
 
 /// The history a host stores for each contact: plain data, copy it freely. All bytes zero
 /// (`rsl_contact_state_init` or memset) is a fresh contact.
+///
+/// The host decides when a contact begins and ends; the library steps any pair it is given,
+/// touching or not (a cohesive contact keeps acting past first separation, and only the host
+/// knows its law). When the host ends a contact (the pair no longer overlaps, or leaves the
+/// neighbour list, or a cohesive bond breaks), it resets the state, as LAMMPS, LIGGGHTS and
+/// YADE drop a contact's history: otherwise the stored springs act again, with their old
+/// loads, when the pair touches later. The overlap is the host's own (it computed `f_n` from
+/// it), or `rsl_decomposition.overlap` (negative once the spheres separate).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct rsl_contact_state {
@@ -110,19 +118,26 @@ pub struct rsl_contact_input {
     pub sliding_stiffness: f64,
     /// Per-contact `gamma_t`, used with `RSL_INPUT_SLIDING_DAMPING`.
     pub sliding_damping: f64,
-    /// Force used by the limits, with `RSL_INPUT_LIMIT_FORCE`.
+    /// Force used by the limits (>= 0), with `RSL_INPUT_LIMIT_FORCE`. +INFINITY: no limit
+    /// (every limit is infinite, except that a zero coefficient still gives a zero limit);
+    /// refused with `RSL_ERR_INVALID_ARGUMENT` for the cdt rolling law outside LIGGGHTS_3_8,
+    /// whose moment is `mu_r R_r` times this force.
     pub limit_force: f64,
     /// Per-contact rolling stiffness, with `RSL_INPUT_ROLLING_STIFFNESS`.
     pub rolling_stiffness: f64,
     /// Per-contact rolling damping, with `RSL_INPUT_ROLLING_DAMPING`.
     pub rolling_damping: f64,
-    /// Per-contact rolling limit coefficient, with `RSL_INPUT_ROLLING_FRICTION` (+INFINITY: no limit).
+    /// Per-contact rolling limit coefficient, with `RSL_INPUT_ROLLING_FRICTION` (+INFINITY: no
+    /// limit, even at zero force). Refused with `RSL_ERR_INVALID_ARGUMENT` where it is not a
+    /// limit: for cdt (it sets the moment) and for the `RSL_STIFFNESS_EPSD`/`EPSD3` rules
+    /// without `RSL_INPUT_ROLLING_STIFFNESS` (they derive the stiffness from it).
     pub rolling_friction: f64,
     /// Per-contact twisting stiffness, with `RSL_INPUT_TWISTING_STIFFNESS`.
     pub twisting_stiffness: f64,
     /// Per-contact twisting damping, with `RSL_INPUT_TWISTING_DAMPING`.
     pub twisting_damping: f64,
-    /// Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no limit).
+    /// Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no
+    /// limit, even at zero force).
     pub twisting_friction: f64,
     /// OR of `RSL_INPUT_*`.
     pub flags: u32,
@@ -287,7 +302,8 @@ fn store(state: &mut rsl_contact_state, s: &ContactState<f64>, slip: u32) {
     state.slip_flags = slip;
 }
 
-/// Resets a contact state to a fresh contact (all zero).
+/// Resets a contact state to a fresh contact (all zero): call it when the contact ends (see
+/// `rsl_contact_state`), or on a new contact's state before its first step.
 ///
 /// # Safety
 /// `state` must be NULL or point to a writable `rsl_contact_state`.

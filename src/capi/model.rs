@@ -141,7 +141,10 @@ pub struct rsl_rolling_params {
     /// `gamma_r` (force time/length), `c_theta` (moment time/rad), or the damping ratio
     /// (dimensionless), >= 0.
     pub damping: f64,
-    /// `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0.
+    /// `mu_r` (dimensionless, length form) or `eta` (length, angle form), >= 0; +INFINITY for
+    /// no limit, except where the coefficient is not a limit and must be finite: `RSL_ROLLING_CDT`
+    /// (it sets the moment) and the `RSL_STIFFNESS_EPSD`/`RSL_STIFFNESS_EPSD3` rules (they derive
+    /// the stiffness from it).
     pub friction: f64,
     /// cdt: rate `|(w1 - w2)_t|` (rad/time; `|w1 - w2|` with `rsl_model_set_torsion_torque`)
     /// below which the moment is zero, >= 0.
@@ -279,8 +282,8 @@ pub unsafe extern "C" fn rsl_model_set_geometry(
     })
 }
 
-/// Sets the sliding law (`RSL_SLIDING_*`) with `k_t` (force/length), `gamma_t` (force
-/// time/length) and `mu_s`, each finite and >= 0.
+/// Sets the sliding law (`RSL_SLIDING_*`) with `k_t` (force/length) and `gamma_t` (force
+/// time/length), finite and >= 0, and `mu_s` (dimensionless), >= 0 or +INFINITY for no limit.
 ///
 /// # Safety
 /// As `rsl_model_set_geometry`.
@@ -313,9 +316,9 @@ pub unsafe extern "C" fn rsl_model_set_sliding(
     })
 }
 
-/// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad), `gamma_tw` (moment
-/// time/rad) and `mu_tw`
-/// (a length: the limit is `mu_tw f_n`), each finite and >= 0. `RSL_TWISTING_MARSHALL` derives
+/// Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad) and `gamma_tw` (moment
+/// time/rad), finite and >= 0, and `mu_tw` (a length: the limit is `mu_tw f_n`), >= 0 or
+/// +INFINITY for no limit. `RSL_TWISTING_MARSHALL` derives
 /// its coefficients from the sliding law and ignores these three.
 ///
 /// # Safety

@@ -62,7 +62,8 @@ fn check_input<T: RealField + Copy>(
         finite_nonneg(g, "sliding_damping")?;
     }
     if let Some(f) = input.limit_force {
-        finite_nonneg(f, "limit_force")?;
+        // +inf means "no limit" (every limit is +inf; a zero coefficient stays 0).
+        fixed_or_finite_nonneg(f, "limit_force")?;
     }
     for (value, what) in [
         (input.rolling_stiffness, "rolling_stiffness"),
@@ -95,6 +96,30 @@ fn check_input<T: RealField + Copy>(
         }
     }
     let r = &model.rolling;
+    let infinite = |x: Option<T>| x.is_some_and(|x| !x.is_finite());
+    if r.law == RollingLaw::Cdt && infinite(input.rolling_friction) {
+        return Err(Error::InvalidArgument(
+            "rolling_friction = +inf: cdt's coefficient sets its moment (mu_r R_r f), not a limit"
+                .into(),
+        ));
+    }
+    if r.law == RollingLaw::Cdt && !model.liggghts_cdt() && infinite(input.limit_force) {
+        return Err(Error::InvalidArgument(
+            "limit_force = +inf: cdt's moment is mu_r R_r times that force, not limited by it"
+                .into(),
+        ));
+    }
+    if r.law == RollingLaw::Epsd
+        && r.stiffness_from_friction()
+        && input.rolling_stiffness.is_none()
+        && infinite(input.rolling_friction)
+    {
+        return Err(Error::InvalidArgument(
+            "rolling_friction = +inf: this EPSD rule derives the rolling stiffness from mu_r \
+             (give RSL_INPUT_ROLLING_STIFFNESS, or a finite coefficient)"
+                .into(),
+        ));
+    }
     let needs_kn = model.needs_normal_stiffness();
     if needs_kn {
         positive(input.normal_stiffness, "normal_stiffness")?;

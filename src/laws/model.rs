@@ -235,12 +235,28 @@ impl SlidingParams {
 }
 
 impl RollingParams {
+    /// Whether the stiffness rule derives the rolling stiffness from `mu_r` (LIGGGHTS' `epsd`
+    /// and `epsd3`): the coefficient must then be finite.
+    pub fn stiffness_from_friction(&self) -> bool {
+        matches!(
+            self.stiffness_rule,
+            RollingStiffness::Epsd | RollingStiffness::Epsd3
+        )
+    }
+
     /// Checks the parameters, naming the first bad one.
     pub fn validate(&self) -> Result<(), Error> {
         check_param(self.stiffness, "rolling stiffness", false)?;
         check_param(self.damping, "rolling damping", false)?;
         if self.law == RollingLaw::Cdt {
             check_param(self.friction, "rolling friction (cdt)", false)?;
+        } else if self.law == RollingLaw::Epsd && self.stiffness_from_friction() {
+            // The stiffness is derived from mu_r: +inf would make it infinite.
+            check_param(
+                self.friction,
+                "rolling friction (epsd/epsd3 stiffness rule)",
+                false,
+            )?;
         } else {
             check_friction(self.friction, "rolling friction")?;
         }
@@ -272,12 +288,13 @@ impl Model {
     /// LIGGGHTS' cdt): it must then be finite and > 0.
     pub fn needs_normal_stiffness(&self) -> bool {
         let r = &self.rolling;
-        (r.law == RollingLaw::Epsd
-            && matches!(
-                r.stiffness_rule,
-                RollingStiffness::Epsd | RollingStiffness::Epsd3
-            ))
-            || (r.law == RollingLaw::Cdt && self.preset == Preset::Liggghts38)
+        (r.law == RollingLaw::Epsd && r.stiffness_from_friction()) || self.liggghts_cdt()
+    }
+
+    /// Whether the rolling law is LIGGGHTS' cdt, whose moment uses the elastic normal force
+    /// `k_n delta` (not the limits' force).
+    pub fn liggghts_cdt(&self) -> bool {
+        self.rolling.law == RollingLaw::Cdt && self.preset == Preset::Liggghts38
     }
 
     /// The model of a preset with every law off; the preset fixes the conventions (branch rule,

@@ -201,6 +201,16 @@ fn transport_energy<T: Real>(storage: Storage, k: T, before: &Vec3<T>, after: &V
     }
 }
 
+/// A limit `coefficient * force` where `+inf` in either factor means "no limit": `0 * inf`
+/// (NaN) becomes the coefficient itself, so an infinite coefficient stays +inf at zero force
+/// and a zero coefficient stays 0 under an infinite limit force. Both factors are >= 0 (not
+/// NaN); every other product is returned bit for bit.
+#[inline(always)]
+fn limit_of<T: Real>(coefficient: T, force: T) -> T {
+    let product = coefficient * force;
+    select(product.simd_ne(product), coefficient, product)
+}
+
 /// Steps one contact without input checks (every [`Real`] type). `state` is updated in place
 /// unless the setup pass says otherwise. Inputs must satisfy what the checked entry points verify.
 #[inline(always)]
@@ -350,7 +360,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 }
             }
         }
-        let limit = lit::<T>(model.sliding.friction) * f_limit;
+        let limit = limit_of(lit::<T>(model.sliding.friction), f_limit);
         let spring = if increment_sliding {
             transport(
                 model.sliding_transport,
@@ -404,7 +414,7 @@ pub fn contact_step_with_geometry<T: Real>(
         let friction = input.rolling_friction.unwrap_or_else(|| lit(p.friction));
         // mu_r (dimensionless) whatever the form.
         let mu_r = if angle { friction / r_r } else { friction };
-        let limit = friction * f_limit;
+        let limit = limit_of(friction, f_limit);
         let to_moment = |load: &Vec3<T>| -> Vec3<T> {
             if angle {
                 *load
@@ -573,13 +583,19 @@ pub fn contact_step_with_geometry<T: Real>(
                 SpringCoefficients {
                     stiffness: k_t * a2h,
                     damping: gamma_t * a2h,
-                    limit: lit::<T>(2.0 / 3.0 * model.sliding.friction) * a * f_limit,
+                    limit: limit_of(
+                        limit_of(lit::<T>(2.0 / 3.0 * model.sliding.friction), a),
+                        f_limit,
+                    ),
                 }
             }
             _ => SpringCoefficients {
                 stiffness: input.twisting_stiffness.unwrap_or_else(|| lit(t.stiffness)),
                 damping: input.twisting_damping.unwrap_or_else(|| lit(t.damping)),
-                limit: input.twisting_friction.unwrap_or_else(|| lit(t.friction)) * f_limit,
+                limit: limit_of(
+                    input.twisting_friction.unwrap_or_else(|| lit(t.friction)),
+                    f_limit,
+                ),
             },
         };
         if conv.twist_vector {
