@@ -428,3 +428,44 @@ void test_contact_end_and_reset(void) {
     CHECK_STATUS(rsl_contact_state_init(NULL), RSL_ERR_NULL_POINTER);
     rsl_model_free(m);
 }
+
+/* YADE's avoidGranularRatcheting switch: only for the YADE_2023 preset (refused otherwise,
+ * and for codes other than 0 and 1). A gear of unequal spheres (R1 w1 = -R2 w2, fixed centres)
+ * has no shear increment with YADE's default (full radii), and with the flag 0 the contact
+ * points' relative velocity -(delta/2)(w1 + w2) x n: |F_s| = k_t dt (delta/2) |w1 + w2|. */
+void test_avoid_granular_ratcheting_switch(void) {
+    const int32_t others[3] = {RSL_PRESET_OBJECTIVE, RSL_PRESET_LAMMPS_2021,
+                               RSL_PRESET_LIGGGHTS_3_8};
+    for (int k = 0; k < 3; k++) {
+        rsl_model *m = NULL;
+        CHECK_STATUS(rsl_model_new(others[k], &m), RSL_OK);
+        CHECK_STATUS(rsl_model_set_avoid_granular_ratcheting(m, 0), RSL_ERR_INVALID_PARAMETER);
+        CHECK_STATUS(rsl_model_set_avoid_granular_ratcheting(m, 1), RSL_ERR_INVALID_PARAMETER);
+        rsl_model_free(m);
+    }
+    rsl_model *m = NULL;
+    CHECK_STATUS(rsl_model_new(RSL_PRESET_YADE_2023, &m), RSL_OK);
+    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e4, 0.0, 0.5), RSL_OK);
+    CHECK_STATUS(rsl_model_set_avoid_granular_ratcheting(m, 2), RSL_ERR_INVALID_PARAMETER);
+    CHECK_STATUS(rsl_model_set_avoid_granular_ratcheting(m, -1), RSL_ERR_INVALID_PARAMETER);
+    const double r1 = 0.7, r2 = 2.3, delta = 0.01, w1 = 2.0, w2 = -w1 * r1 / r2, dt = 1e-3;
+    rsl_sphere a = sphere(0.0, w1, r1), b = sphere(r1 + r2 - delta, w2, r2);
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.normal_force = 100.0;
+    in.dt = dt;
+    for (int flag = 1; flag >= 0; flag--) {
+        CHECK_STATUS(rsl_model_set_avoid_granular_ratcheting(m, flag), RSL_OK);
+        rsl_contact_state st;
+        CHECK_STATUS(rsl_contact_state_init(&st), RSL_OK);
+        rsl_contact_loads out;
+        CHECK_STATUS(rsl_contact_step(m, &a, &b, &in, &st, &out), RSL_OK);
+        double want = flag ? 0.0 : 1e4 * dt * 0.5 * delta * fabs(w1 + w2);
+        /* The arms' terms R w ~ 1.4 cancel to a few roundings (~1e-15), times k_t dt = 10:
+         * 1e-13 absolute leaves a margin of ten; the wanted 0.07 is met to 1e-12 relative. */
+        CHECK_CLOSE(fabs(out.sliding_force.y), want, 1e-13, 1e-12);
+        CHECK_CLOSE(out.sliding_force.x, 0.0, 1e-15, 0);
+        CHECK_CLOSE(out.sliding_force.z, 0.0, 1e-15, 0);
+    }
+    rsl_model_free(m);
+}

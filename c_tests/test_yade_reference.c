@@ -108,7 +108,8 @@ static void bodies(const csv_file *c, rsl_sphere *b1, rsl_sphere *b2) {
 /* Per row: n, overlap and contact point equal YADE's; YADE's relAngVel = -(w1 - w2), recovered
  * from our rolling velocity and twisting rate; YADE's incident velocity (2 relative to 1, full
  * radii, (v2 - v1) scaled by (R1+R2)/d) equals -(v_s with radii branches) + (delta/d)(v2-v1)_t
- * tangentially and (R1+R2)/d ddot normally. Tolerance: 64 eps of each quantity's scale (a
+ * tangentially and (R1+R2)/d ddot normally; with avoidGranularRatcheting=False its shear
+ * increment over dt is -v_s (midplane branches: YADE's contact point). Tolerance: 64 eps of each quantity's scale (a
  * few roundings of terms of that size; YADE and we order the operations differently). */
 void test_yade_decomposition_matches_yade_rates(void) {
     csv_file c;
@@ -116,7 +117,7 @@ void test_yade_decomposition_matches_yade_rates(void) {
     const double tol = 64 * 2.220446049250313e-16;
     rsl_decompose_options radii = rsl_decompose_options_default();
     radii.branch_rule = RSL_BRANCH_RADII;
-    int rows = 0;
+    int rows = 0, contact_point_rows = 0;
     while (csv_next(&c)) {
         rsl_sphere b1, b2;
         bodies(&c, &b1, &b2);
@@ -141,10 +142,18 @@ void test_yade_decomposition_matches_yade_rates(void) {
         double v_scale = amax(dv) + b1.radius * amax(b1.angular_velocity) + b2.radius * amax(b2.angular_velocity);
         CHECK(diff(yade_t, iv_t) <= tol * v_scale);
         CHECK_CLOSE(dot(iv, d.normal), span / d.distance * d.normal_rate, tol * v_scale, 0);
+        if (num(&c, "param_ratchet") == 0.0) {
+            /* avoidGranularRatcheting=False: YADE's shear increment is the contact points'
+             * relative velocity times dt, our sliding velocity (body 1 relative to body 2). */
+            rsl_vec3 rate = scale(vec(&c, "shearinc"), 1.0 / num(&c, "dt"));
+            CHECK(diff(d.sliding_velocity, scale(rate, -1.0)) <= tol * v_scale);
+            contact_point_rows++;
+        }
         rows++;
     }
     fclose(c.f);
     CHECK(rows >= 3000);
+    CHECK(contact_point_rows >= 600);
 }
 
 /* Builds the YADE_2023 model of a case from its parameter columns (negative limit = none). */
@@ -163,6 +172,8 @@ static rsl_model *yade_model(const csv_file *c) {
     CHECK_STATUS(rsl_model_set_twisting(m, RSL_TWISTING_SDS, num(c, "param_ktw"), 0.0,
                                         maxtwist > 0 ? maxtwist : INFINITY),
                  RSL_OK);
+    /* param_ratchet: YADE's avoidGranularRatcheting (1, its default, or 0) */
+    CHECK_STATUS(rsl_model_set_avoid_granular_ratcheting(m, num(c, "param_ratchet") != 0.0), RSL_OK);
     return m;
 }
 

@@ -1016,6 +1016,19 @@ int32_t rsl_model_set_energy_tracking(struct rsl_model *model, int32_t enabled);
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_torsion_torque(struct rsl_model *model, int32_t enabled);
 
+// YADE's `avoidGranularRatcheting` flag of `Ig2_Sphere_Sphere_ScGeom6D`: 1 (the default, as
+// in YADE) drives the sliding spring with YADE's incident velocity (the full radii as arms,
+// `v2 - v1` scaled by `(R1 + R2)/d`); 0 with the relative velocity of the two spheres'
+// material points at the contact point (arms `R_k - delta/2`, the decomposition's sliding
+// velocity: what YADE computes with the flag False). The shear forces of the two differ by
+// O(delta/R) of the relative motion. Only for a model of the `RSL_PRESET_YADE_2023` preset:
+// `RSL_ERR_INVALID_PARAMETER` otherwise, and then, or for `enabled` other than 0 and 1, the
+// model is unchanged.
+//
+// # Safety
+// As `rsl_model_set_geometry`.
+int32_t rsl_model_set_avoid_granular_ratcheting(struct rsl_model *model, int32_t enabled);
+
 // A static, NUL-terminated English description of a status code ("unknown status" for codes
 // this library does not define). Never NULL; do not free.
 const char *rsl_status_str(int32_t status);

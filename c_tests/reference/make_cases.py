@@ -162,6 +162,14 @@ def randomcase(name, law, r1, r2, nseg=5, nsteps=40, **kw):
     return c
 
 
+def contact_point(c):
+    """the case with Ig2_Sphere_Sphere_ScGeom6D(avoidGranularRatcheting=False): YADE's shear
+    increment from the contact points' relative velocity instead of its default incident velocity"""
+    c['avoidGranularRatcheting'] = False
+    c['note'] += '; avoidGranularRatcheting=False'
+    return c
+
+
 def main():
     cases = [
         gear('coh_gear_eq', 'cohfrict', 1.0, 1.0),
@@ -183,6 +191,11 @@ def main():
         rigid('mind_rigid_rot', 'mindlin', 1.0, 0.5),
         orbit('mind_orbit_r1000', 'mindlin', 1000.0, 1.0, small=2, ip2=dict(eta=0.001)),
         randomcase('mind_random_r1.5', 'mindlin', 1.0, 1.5),
+        # avoidGranularRatcheting=False (appended: the cases above keep their rows)
+        contact_point(gear('coh_gear_r10_cp', 'cohfrict', 10.0, 1.0, delta_rel=1e-2)),
+        contact_point(slide('coh_slide_r10_cp', 'cohfrict', 1.0, 10.0, delta_rel=1e-2)),
+        contact_point(randomcase('coh_random_r10_cp', 'cohfrict', 1.0, 10.0, delta_rel=1e-2)),
+        contact_point(randomcase('mind_random_r1.5_cp', 'mindlin', 1.0, 1.5, delta_rel=1e-2)),
     ]
     for c in cases:
         del c['_lim'], c['_delta']

@@ -12,6 +12,9 @@ and the material parameters of cases.json (exact doubles), and replays in mpmath
       (not the first step) orth = n_old x n,  twist = dt/2 (n_old.(w1 + w2)) n_old
       incidentVel = alpha (v2 - v1) + w2 x (-R2 n) - w1 x (R1 n),  alpha = (R1+R2)/(R1+R2-pen)
       shearInc = (incidentVel - (n.incidentVel) n) dt
+      (avoidGranularRatcheting=False: incidentVel replaced in shearInc by the contact points'
+       relative velocity v2 + w2 x (cp - x2) - v1 - w1 x (cp - x1); the incidentVel column keeps
+       the default form)
   ScGeom::rotate(u):  u -= u x orth;  u -= u x twist          (first-order transport)
   Law2_ScGeom6D_CohFrictPhys_CohesionMoment (useIncrementalForm, always_use_moment_law, no cohesion)
       F_n = kn pen, normalForce = F_n n
@@ -139,7 +142,12 @@ def replay_case(case, rows):
         n_old = n
         alpha = (r1 + r2) / (r1 + r2 - pen)
         iv = sub(add(mul(alpha, sub(v2, v1)), cross(w2, mul(-r2, n))), cross(w1, mul(r1, n)))
-        sinc = mul(dt, sub(iv, mul(dot(n, iv), n)))
+        if case.get('avoidGranularRatcheting', True):
+            used = iv
+        else:
+            # avoidGranularRatcheting=False: the material points' velocities at the contact point
+            used = sub(add(v2, cross(w2, sub(cp, x2))), add(v1, cross(w1, sub(cp, x1))))
+        sinc = mul(dt, sub(used, mul(dot(n, used), n)))
 
         def rotate(u):
             u = sub(u, cross(u, orth))
@@ -204,6 +212,7 @@ def replay_case(case, rows):
         res['ks'] = ks_now
         for key in ('kn', 'ks', 'kr', 'ktw', 'tanphi', 'maxroll', 'maxtwist'):
             res['param_' + key] = P[key]
+        res['param_ratchet'] = mpf(1 if case.get('avoidGranularRatcheting', True) else 0)
         out.append(res)
     return out
 
@@ -223,7 +232,7 @@ def row_scales(r, c):
              incvel=kin, shearinc=kin * dt, kn=c['kn'], ks=c['ks'], fn=fn, fs=slip, mb=roll, mt=twist,
              f1=fn + slip, f2=fn + slip)
     s['t1'] = s['t2'] = max(r1, r2) * slip + roll + twist
-    for k in ('kn', 'ks', 'kr', 'ktw', 'tanphi', 'maxroll', 'maxtwist'):
+    for k in ('kn', 'ks', 'kr', 'ktw', 'tanphi', 'maxroll', 'maxtwist', 'ratchet'):
         s['param_' + k] = abs(c['param_' + k])
     return {k: float(v) for k, v in s.items()}
 

@@ -78,6 +78,7 @@ def main():
         relang=Check('relAngVel = w2 - w1', 0.0),
         incvel=Check('incidentVel = alpha(v2-v1) - (R1 w1 + R2 w2) x n', 1e-15),
         shinc=Check('shearInc = (incidentVel)_t dt', 1e-15),
+        shinc_cp=Check('avoidGranularRatcheting=False: shearInc = (v2 + w2 x (cp-x2) - v1 - w1 x (cp-x1))_t dt', 1e-15),
         force=Check('f2 = normalForce + shearForce, f1 = -f2 (loads act on body 2)', 1e-15),
         torque=Check('t1 = -(mb+mt) + (cp-x1) x f1, t2 = (mb+mt) + (cp-x2) x f2', 1e-14),
         advance=Check('blocked DOFs: x(k+1) = x(k) + v(k) dt (positions advance)', 0.0),
@@ -113,9 +114,15 @@ def main():
             alpha = (r1 + r2) / (r1 + r2 - pen)
             iv = sub(addv(mul(alpha, sub(v2, v1)), cross(w2, mul(-r2, n))), cross(w1, mul(r1, n)))
             C['incvel'].add(iv, V(r, 'incvel'), scl['incvel'], where)
-            ivr = V(r, 'incvel')
-            si = mul(dt, sub(ivr, mul(dot(n, ivr), n)))
-            C['shinc'].add(si, V(r, 'shearinc'), scl['incvel'] * dt, where)
+            if case.get('avoidGranularRatcheting', True):
+                ivr = V(r, 'incvel')
+                si = mul(dt, sub(ivr, mul(dot(n, ivr), n)))
+                C['shinc'].add(si, V(r, 'shearinc'), scl['incvel'] * dt, where)
+            else:
+                # avoidGranularRatcheting=False: the contact points' relative velocity
+                cpv = sub(addv(v2, cross(w2, sub(cp, x2))), addv(v1, cross(w1, sub(cp, x1))))
+                si = mul(dt, sub(cpv, mul(dot(n, cpv), n)))
+                C['shinc_cp'].add(si, V(r, 'shearinc'), scl['incvel'] * dt, where)
             fn, fs, mb, mt = V(r, 'fn'), V(r, 'fs'), V(r, 'mb'), V(r, 'mt')
             f1, f2, t1, t2 = V(r, 'f1'), V(r, 'f2'), V(r, 't1'), V(r, 't2')
             fsc = max(scl['fn'], scl['fs'])

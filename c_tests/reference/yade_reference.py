@@ -17,7 +17,8 @@ import yade
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
 
 VEC_IN = ['x1', 'x2', 'v1', 'v2', 'w1', 'w2']
-PARAMS = ['param_kn', 'param_ks', 'param_kr', 'param_ktw', 'param_tanphi', 'param_maxroll', 'param_maxtwist']
+PARAMS = ['param_kn', 'param_ks', 'param_kr', 'param_ktw', 'param_tanphi', 'param_maxroll', 'param_maxtwist',
+          'param_ratchet']
 VEC_OUT = ['n']
 COLUMNS = (['case', 'step', 'law', 'dt', 'r1', 'r2']
            + [v + '_' + c for v in VEC_IN for c in 'xyz']
@@ -51,6 +52,11 @@ def tumble(O, dt, d):
     return tuple(u[i] + s * d[i] / L for i in range(3))
 
 
+def ratchet(case):
+    """the case's avoidGranularRatcheting flag (default True, as YADE's)"""
+    return bool(case.get('avoidGranularRatcheting', True))
+
+
 def setup(case):
     O.reset()
     law = case['law']
@@ -82,7 +88,8 @@ def setup(case):
         # verletDist: bounding boxes enlarged by half the smaller radius, so the pair is always
         # in the collider's list; the interaction is created at step 0 (spheres overlap).
         InsertionSortCollider([Bo1_Sphere_Aabb()], verletDist=0.5 * rmin),
-        InteractionLoop([Ig2_Sphere_Sphere_ScGeom6D()], [ip2], [law2]),
+        # avoidGranularRatcheting: YADE's default True unless the case says False
+        InteractionLoop([Ig2_Sphere_Sphere_ScGeom6D(avoidGranularRatcheting=ratchet(case))], [ip2], [law2]),
         NewtonIntegrator(damping=0, gravity=(0, 0, 0)),
     ]
     O.dt = case['dt']
@@ -148,12 +155,15 @@ def run_case(case, out):
             row = [case['name'], str(step), law, repr(float(dt)), repr(r1), repr(r2)]
             for v in inp:
                 row += [repr(c) for c in v]
+            params.append(1.0 if ratchet(case) else 0.0)
             row += [repr(float(c)) for c in params]
             row += [repr(c) for c in v3(g.normal)] + [repr(float(g.penetrationDepth))]
             row += [repr(c) for c in v3(g.contactPoint)]
             # velocities are not changed by NewtonIntegrator (all DOFs blocked), so these methods,
             # called after the step, see the same states as the law did (the ratcheting-free
-            # incident velocity uses no positions).
+            # incident velocity uses no positions). The column is that default incident velocity in
+            # every case; with avoidGranularRatcheting=False the law's shearInc comes from the
+            # contact points instead (see param_ratchet).
             row += [repr(c) for c in v3(g.relAngVel(i))]
             row += [repr(c) for c in v3(g.incidentVel(i, True))]
             row += [repr(c) for c in v3(g.shearInc)]

@@ -179,7 +179,7 @@ pub fn model_from(b: &mut Bytes) -> *mut rsl_model {
     for _ in 0..ops {
         let mut before: rsl_rolling_params = pattern();
         assert_eq!(unsafe { rsl_model_get_rolling(m, &mut before) }, 0);
-        let (s, what) = match b.u8() % 7 {
+        let (s, what) = match b.u8() % 8 {
             0 => (
                 unsafe { rsl_model_set_sliding(m, code(b, 2), param(b), param(b), param(b)) },
                 "rsl_model_set_sliding",
@@ -221,6 +221,10 @@ pub fn model_from(b: &mut Bytes) -> *mut rsl_model {
             5 => (
                 unsafe { rsl_model_set_torsion_torque(m, code(b, 2)) },
                 "rsl_model_set_torsion_torque",
+            ),
+            6 => (
+                unsafe { rsl_model_set_avoid_granular_ratcheting(m, code(b, 2)) },
+                "rsl_model_set_avoid_granular_ratcheting",
             ),
             _ => (
                 unsafe { rsl_model_set_energy_tracking(m, code(b, 2)) },

@@ -131,5 +131,6 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
     m.preset = preset;
     m.track_energy = false;
     m.torsion_torque = false;
+    m.contact_point_sliding = false;
     m
 }

@@ -549,6 +549,40 @@ pub unsafe extern "C" fn rsl_model_set_torsion_torque(model: *mut rsl_model, ena
     })
 }
 
+/// YADE's `avoidGranularRatcheting` flag of `Ig2_Sphere_Sphere_ScGeom6D`: 1 (the default, as
+/// in YADE) drives the sliding spring with YADE's incident velocity (the full radii as arms,
+/// `v2 - v1` scaled by `(R1 + R2)/d`); 0 with the relative velocity of the two spheres'
+/// material points at the contact point (arms `R_k - delta/2`, the decomposition's sliding
+/// velocity: what YADE computes with the flag False). The shear forces of the two differ by
+/// O(delta/R) of the relative motion. Only for a model of the `RSL_PRESET_YADE_2023` preset:
+/// `RSL_ERR_INVALID_PARAMETER` otherwise, and then, or for `enabled` other than 0 and 1, the
+/// model is unchanged.
+///
+/// # Safety
+/// As `rsl_model_set_geometry`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_avoid_granular_ratcheting(
+    model: *mut rsl_model,
+    enabled: i32,
+) -> i32 {
+    guard(|| {
+        let on = on_off(enabled, "avoidGranularRatcheting flag (0 or 1)")?;
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                if m.preset != crate::laws::model::Preset::Yade2023 {
+                    return Err(Error::InvalidParameter(
+                        "avoidGranularRatcheting is YADE's switch: it needs the YADE_2023 preset"
+                            .into(),
+                    ));
+                }
+                m.contact_point_sliding = !on;
+                Ok(())
+            })
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

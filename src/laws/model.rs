@@ -195,6 +195,12 @@ pub struct Model {
     /// tangential part `(w1 - w2)_t`, so the rolling moment gets a component about the normal
     /// (a twisting resistance bounded by the same rolling limit). Off by default, as in LIGGGHTS.
     pub torsion_torque: bool,
+    /// YADE's `avoidGranularRatcheting = False` (on `Ig2_Sphere_Sphere_ScGeom6D`; YADE_2023
+    /// preset only): the sliding spring is driven by the relative velocity of the material
+    /// points at the contact point (arms `R_k - delta/2`, the decomposition's sliding
+    /// velocity) instead of YADE's default incident velocity (full radii, `(v2 - v1)` scaled
+    /// by `(R1 + R2)/d`). Off by default, as YADE's flag is True by default.
+    pub contact_point_sliding: bool,
 }
 
 /// A limit coefficient: finite and >= 0, or +inf for "no limit".
@@ -342,6 +348,11 @@ impl Model {
         self.sliding.validate()?;
         self.rolling.validate()?;
         self.twisting.validate()?;
+        if self.contact_point_sliding && self.preset != Preset::Yade2023 {
+            return Err(Error::InvalidParameter(
+                "avoidGranularRatcheting is YADE's switch: it needs the YADE_2023 preset".into(),
+            ));
+        }
         if self.torsion_torque {
             if self.preset != Preset::Liggghts38 {
                 return Err(Error::InvalidParameter(

@@ -339,7 +339,13 @@ pub fn contact_step_with_geometry<T: Real>(
     if sliding_on {
         let mut v_s = d.sliding_velocity;
         let delta = g.overlap;
-        match (conv.sliding_rate, body2) {
+        // YADE with avoidGranularRatcheting = False: the contact points' relative velocity.
+        let sliding_rate = if model.contact_point_sliding {
+            SlidingRate::Branches
+        } else {
+            conv.sliding_rate
+        };
+        match (sliding_rate, body2) {
             (SlidingRate::Branches, _) => {}
             (SlidingRate::Radii, Partner::Sphere(b2)) => {
                 // As LAMMPS writes it: (R1 w1 + R2 w2) x n - (v2 - v1)_t.
@@ -354,7 +360,7 @@ pub fn contact_step_with_geometry<T: Real>(
                     }
                     Partner::Wall(_) => w1.cross(&n) * arm1,
                 };
-                if let (SlidingRate::YadeScaled, Partner::Sphere(b2)) = (conv.sliding_rate, body2) {
+                if let (SlidingRate::YadeScaled, Partner::Sphere(b2)) = (sliding_rate, body2) {
                     let dv_t = tangential(&(b2.velocity - body1.velocity), &n);
                     v_s -= dv_t * (delta / g.distance);
                 }
