@@ -3,7 +3,7 @@
 //! `docs/work_precision.svg`.
 //!
 //! Errors, each against a reference that does not come from this library:
-//! - `yade`: the decomposition of the 3230 states of `c_tests/reference/yade_mp150.csv` (a
+//! - `yade`: the decomposition of the 3940 states of `c_tests/reference/yade_mp150.csv` (a
 //!   150-digit replay of YADE's algorithm), through the sign map of peers.md: normal `n`,
 //!   relative spin `w1 - w2 = -relAngVel`, rolling velocity `R_r (w1 - w2) x n` with the exact
 //!   rolling radius from the replay's overlap; max relative error over rows.
