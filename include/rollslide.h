@@ -266,7 +266,8 @@
 // A pointer was not aligned for its type.
 #define RSL_ERR_MISALIGNED 7
 
-// An internal error (a Rust panic) was caught at the C boundary; outputs were not written.
+// An internal error (a bug in the library, stopped at its boundary) was caught; outputs were
+// not written.
 #define RSL_ERR_INTERNAL 8
 
 // The time step was not finite and > 0.
@@ -300,7 +301,9 @@
 // threads at once as long as no thread calls a setter meanwhile.
 typedef struct rsl_model rsl_model;
 
-// A 3-vector of doubles (any consistent unit system).
+// A 3-vector of doubles (any consistent unit system), in the global frame: every vector the
+// library reads or writes (positions, velocities, angular velocities, normals, forces,
+// torques, moments, stored springs) has its components in the host's fixed global frame.
 typedef struct rsl_vec3 {
   // x component.
   double x;
@@ -310,13 +313,13 @@ typedef struct rsl_vec3 {
   double z;
 } rsl_vec3;
 
-// Kinematic state of one sphere.
+// Kinematic state of one sphere (vectors in the global frame).
 typedef struct rsl_sphere {
   // Centre position.
   struct rsl_vec3 position;
   // Velocity of the centre.
   struct rsl_vec3 velocity;
-  // Angular velocity (rad per unit time).
+  // Angular velocity (rad per unit time, global frame).
   struct rsl_vec3 angular_velocity;
   // Radius (> 0).
   double radius;
@@ -668,7 +671,7 @@ extern "C" {
 // contact was processed.
 // Call-level errors (NULL array, invalid handle or model, dt, options) process nothing.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // Every array must hold the stated number of elements (`particles`, `force`, `torque`:
 // `n_particles`; `pairs`: `2 n_contacts`; the others `n_contacts`); NULL only for an empty
 // array. `states`, `force`, `torque` and `report` must not overlap each other or any input.
@@ -692,7 +695,7 @@ int32_t rsl_batch_step(const struct rsl_model *model,
 // share an output, so ranges of contacts can run on different threads. Otherwise as
 // `rsl_batch_step` (same validation, skipping and report).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // Every array must hold `n` elements (NULL only when `n = 0`); `states`, `out` and `report`
 // must not overlap each other or any input. The model must not be modified during the call.
 int32_t rsl_batch_step_contacts(const struct rsl_model *model,
@@ -713,7 +716,7 @@ int32_t rsl_batch_step_contacts(const struct rsl_model *model,
 // untouched) as in `rsl_batch_step`. In single precision the geometry fields are computed in
 // double and the rates in single.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `particles` holds `n_particles` spheres, `pairs` `2 n_contacts` indices, `out` `n_contacts`
 // elements (NULL only when empty); `out` and `report` must not overlap inputs or each other.
 int32_t rsl_batch_decompose(const struct rsl_sphere *particles,
@@ -728,7 +731,7 @@ int32_t rsl_batch_decompose(const struct rsl_sphere *particles,
 // Decomposes many sphere-sphere contacts (contact-major): `out[c]` is the decomposition of
 // `body1[c]` relative to `body2[c]`. Otherwise as `rsl_batch_decompose`.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `body1`, `body2`, `out` hold `n` elements (NULL only when `n = 0`); `out` and `report` must
 // not overlap inputs or each other.
 int32_t rsl_batch_decompose_contacts(const struct rsl_sphere *body1,
@@ -747,14 +750,14 @@ uint32_t rsl_batch_simd_support(void);
 // for a model no specialised kernel matches; `rsl_batch_report.scene` gives the one that
 // ran). Writes `*scene` on success.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `model` must be a live model; `scene` NULL or writable.
 int32_t rsl_batch_scene(const struct rsl_model *model, uint32_t *scene);
 
 // Resets a contact state to a fresh contact (all zero): call it when the contact ends (see
 // `rsl_contact_state`), or on a new contact's state before its first step.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `state` must be NULL or point to a writable `rsl_contact_state`.
 int32_t rsl_contact_state_init(struct rsl_contact_state *state);
 
@@ -767,7 +770,7 @@ int32_t rsl_contact_state_init(struct rsl_contact_state *state);
 // `RSL_ERR_INVALID_ARGUMENT` (an input the model needs is missing or out of range, unknown
 // flag), `RSL_ERR_NON_FINITE` (also for a non-finite state).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // Every pointer must be valid for its type during the call; `state` and `out` must not
 // overlap each other or the inputs. The model must not be modified during the call.
 int32_t rsl_contact_step(const struct rsl_model *model,
@@ -792,7 +795,7 @@ int32_t rsl_contact_step(const struct rsl_model *model,
 //
 // Errors: those of `rsl_contact_step`.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // Every pointer must be valid for its type during the call; `state` and the accumulators must
 // not overlap the inputs, and `state` must not overlap the accumulators. The model must not be
 // modified during the call.
@@ -808,7 +811,7 @@ int32_t rsl_contact_step_accumulate(const struct rsl_model *model,
 
 // Steps one sphere-wall contact (body 2 is the wall); as `rsl_contact_step`.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_contact_step`.
 int32_t rsl_contact_step_wall(const struct rsl_model *model,
                               const struct rsl_sphere *sphere,
@@ -825,7 +828,7 @@ int32_t rsl_contact_step_wall(const struct rsl_model *model,
 //
 // Errors: those of `rsl_contact_step_wall`.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_contact_step_accumulate`.
 int32_t rsl_contact_step_wall_accumulate(const struct rsl_model *model,
                                          const struct rsl_sphere *sphere,
@@ -840,7 +843,7 @@ int32_t rsl_contact_step_wall_accumulate(const struct rsl_model *model,
 // `damping_ratio` (0: undamped). `inertia2` may be +INFINITY for a wall. Writes `*out` on
 // success.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `out` must be NULL or writable.
 int32_t rsl_rotational_critical_time_step(double k_theta,
                                           double inertia1,
@@ -855,7 +858,7 @@ int32_t rsl_rotational_critical_time_step(double k_theta,
 // `rsl_decomposition.branch2` included; otherwise it must be finite and > 0, as `l1`. Writes
 // `*out` on success.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `out` must be NULL or writable.
 int32_t rsl_coupled_critical_time_step(double k_t,
                                        double k_theta,
@@ -878,7 +881,7 @@ struct rsl_decompose_options rsl_decompose_options_default(void);
 // `RSL_ERR_INVALID_RADIUS`, `RSL_ERR_COINCIDENT_CENTRES`, `RSL_ERR_NONPOSITIVE_BRANCH`,
 // `RSL_ERR_INVALID_ARGUMENT` (unknown option code).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // Each non-NULL pointer must point to a valid object of its type for the whole call; `out`
 // must not overlap the inputs.
 int32_t rsl_decompose(const struct rsl_sphere *body1,
@@ -892,7 +895,7 @@ int32_t rsl_decompose(const struct rsl_sphere *body1,
 // Errors as `rsl_decompose`, plus `RSL_ERR_INVALID_ARGUMENT` for a zero wall normal and
 // `RSL_ERR_NONPOSITIVE_BRANCH` when the centre is more than one radius behind the wall.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_decompose`.
 int32_t rsl_decompose_wall(const struct rsl_sphere *sphere,
                            const struct rsl_wall *wall,
@@ -902,7 +905,7 @@ int32_t rsl_decompose_wall(const struct rsl_sphere *sphere,
 // Inverse map for a sphere pair: recovers `(v1, w1, v2, w2)` from a decomposition computed
 // with every part and the same `options` (NULL for the defaults; only the branch rule matters).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_decompose`.
 int32_t rsl_compose(const struct rsl_decomposition *decomposition,
                     const struct rsl_decompose_options *options,
@@ -911,7 +914,7 @@ int32_t rsl_compose(const struct rsl_decomposition *decomposition,
 // Inverse map for a sphere-wall contact: recovers the sphere's `(v1, w1)`, the wall's angular
 // velocity and the wall's material velocity at the contact point.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_decompose`.
 int32_t rsl_compose_wall(const struct rsl_decomposition *decomposition,
                          const struct rsl_decompose_options *options,
@@ -920,7 +923,7 @@ int32_t rsl_compose_wall(const struct rsl_decomposition *decomposition,
 // LEGACY rolling measures of a sphere pair (Kuhn-Bagi mean travel, Iwashita-Oda), for
 // comparing with older codes. Not objective rolling; see the fields of `rsl_legacy_rolling`.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_decompose`.
 int32_t rsl_decompose_legacy(const struct rsl_sphere *body1,
                              const struct rsl_sphere *body2,
@@ -930,20 +933,20 @@ int32_t rsl_decompose_legacy(const struct rsl_sphere *body1,
 // Creates a model with every law off and the conventions of `preset` (`RSL_PRESET_*`); writes
 // the handle to `*out` on success.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `out` must be NULL or point to writable storage for one pointer.
 int32_t rsl_model_new(int32_t preset, struct rsl_model **out);
 
 // Releases a model. NULL is accepted and ignored. Using the handle afterwards is an error the
 // library detects on a best-effort basis (`RSL_ERR_INVALID_HANDLE`).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `model` must be NULL or a live pointer from `rsl_model_new`, not used by another thread.
 void rsl_model_free(struct rsl_model *model);
 
 // Sets the branch rule (`RSL_BRANCH_*`) and rolling radius rule (`RSL_ROLLING_RADIUS_*`).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `model` must be a live model not used by another thread during the call.
 int32_t rsl_model_set_geometry(struct rsl_model *model,
                                int32_t branch_rule,
@@ -952,7 +955,7 @@ int32_t rsl_model_set_geometry(struct rsl_model *model,
 // Sets the sliding law (`RSL_SLIDING_*`) with `k_t` (force/length) and `gamma_t` (force
 // time/length), finite and >= 0, and `mu_s` (dimensionless), >= 0 or +INFINITY for no limit.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_sliding(struct rsl_model *model,
                               int32_t law,
@@ -965,7 +968,7 @@ int32_t rsl_model_set_sliding(struct rsl_model *model,
 // +INFINITY for no limit. `RSL_TWISTING_MARSHALL` derives
 // its coefficients from the sliding law and ignores these three.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_twisting(struct rsl_model *model,
                                int32_t law,
@@ -975,20 +978,20 @@ int32_t rsl_model_set_twisting(struct rsl_model *model,
 
 // Sets the rolling law and its parameters (see `rsl_rolling_params`).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_model_set_geometry`; `params` must point to a valid `rsl_rolling_params`.
 int32_t rsl_model_set_rolling(struct rsl_model *model, const struct rsl_rolling_params *params);
 
 // Writes the model's current rolling parameters to `*out`.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // `model` must be a live model; `out` writable.
 int32_t rsl_model_get_rolling(const struct rsl_model *model, struct rsl_rolling_params *out);
 
 // Sets the history transport schemes (`RSL_TRANSPORT_*`) of the sliding spring and of the
 // rolling spring (LIGGGHTS, for example, projects the first and never rotates the second).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_transport(struct rsl_model *model,
                                 int32_t sliding_scheme,
@@ -996,7 +999,7 @@ int32_t rsl_model_set_transport(struct rsl_model *model,
 
 // Turns the per-step energy bookkeeping on (`enabled` = 1) or off (0, the default).
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_energy_tracking(struct rsl_model *model, int32_t enabled);
 
@@ -1012,7 +1015,7 @@ int32_t rsl_model_set_energy_tracking(struct rsl_model *model, int32_t enabled);
 // model is unchanged. Changing the rolling law to the length form later is refused while the
 // switch is on.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_torsion_torque(struct rsl_model *model, int32_t enabled);
 
@@ -1025,7 +1028,7 @@ int32_t rsl_model_set_torsion_torque(struct rsl_model *model, int32_t enabled);
 // `RSL_ERR_INVALID_PARAMETER` otherwise, and then, or for `enabled` other than 0 and 1, the
 // model is unchanged.
 //
-// # Safety
+// Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_model_set_geometry`.
 int32_t rsl_model_set_avoid_granular_ratcheting(struct rsl_model *model, int32_t enabled);
 

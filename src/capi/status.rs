@@ -21,7 +21,8 @@ pub const RSL_ERR_NONPOSITIVE_BRANCH: i32 = 5;
 pub const RSL_ERR_INVALID_ARGUMENT: i32 = 6;
 /// A pointer was not aligned for its type.
 pub const RSL_ERR_MISALIGNED: i32 = 7;
-/// An internal error (a Rust panic) was caught at the C boundary; outputs were not written.
+/// An internal error (a bug in the library, stopped at its boundary) was caught; outputs were
+/// not written.
 pub const RSL_ERR_INTERNAL: i32 = 8;
 /// The time step was not finite and > 0.
 pub const RSL_ERR_INVALID_TIME_STEP: i32 = 9;

@@ -5,7 +5,9 @@ use crate::decompose::{Decomposition, Sphere, Wall};
 use crate::geometry::ContactGeometry;
 use crate::scalar::Vec3;
 
-/// A 3-vector of doubles (any consistent unit system).
+/// A 3-vector of doubles (any consistent unit system), in the global frame: every vector the
+/// library reads or writes (positions, velocities, angular velocities, normals, forces,
+/// torques, moments, stored springs) has its components in the host's fixed global frame.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct rsl_vec3 {
@@ -33,7 +35,7 @@ impl From<Vec3<f64>> for rsl_vec3 {
     }
 }
 
-/// Kinematic state of one sphere.
+/// Kinematic state of one sphere (vectors in the global frame).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct rsl_sphere {
@@ -41,7 +43,7 @@ pub struct rsl_sphere {
     pub position: rsl_vec3,
     /// Velocity of the centre.
     pub velocity: rsl_vec3,
-    /// Angular velocity (rad per unit time).
+    /// Angular velocity (rad per unit time, global frame).
     pub angular_velocity: rsl_vec3,
     /// Radius (> 0).
     pub radius: f64,
