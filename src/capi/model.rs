@@ -570,10 +570,10 @@ pub unsafe extern "C" fn rsl_model_set_avoid_granular_ratcheting(
         // SAFETY: forwarded contract.
         unsafe {
             update(model, |m| {
+                // Refused for other presets in both positions (1 would be a silent no-op).
                 if m.preset != crate::laws::model::Preset::Yade2023 {
                     return Err(Error::InvalidParameter(
-                        "avoidGranularRatcheting is YADE's switch: it needs the YADE_2023 preset"
-                            .into(),
+                        crate::laws::model::AVOID_RATCHETING_NEEDS_YADE.into(),
                     ));
                 }
                 m.contact_point_sliding = !on;

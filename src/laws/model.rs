@@ -203,6 +203,10 @@ pub struct Model {
     pub contact_point_sliding: bool,
 }
 
+/// Why YADE's avoidGranularRatcheting switch is refused for another preset.
+pub const AVOID_RATCHETING_NEEDS_YADE: &str =
+    "avoidGranularRatcheting is YADE's switch: it needs the YADE_2023 preset";
+
 /// A limit coefficient: finite and >= 0, or +inf for "no limit".
 fn check_friction(value: f64, name: &str) -> Result<(), Error> {
     if value == f64::INFINITY || (value.is_finite() && value >= 0.0) {
@@ -349,9 +353,7 @@ impl Model {
         self.rolling.validate()?;
         self.twisting.validate()?;
         if self.contact_point_sliding && self.preset != Preset::Yade2023 {
-            return Err(Error::InvalidParameter(
-                "avoidGranularRatcheting is YADE's switch: it needs the YADE_2023 preset".into(),
-            ));
+            return Err(Error::InvalidParameter(AVOID_RATCHETING_NEEDS_YADE.into()));
         }
         if self.torsion_torque {
             if self.preset != Preset::Liggghts38 {
