@@ -43,8 +43,10 @@ fn models() -> Vec<(Model, Scene)> {
     liggghts.rolling.friction = 0.05;
     liggghts.torsion_torque = true;
     liggghts.validate().unwrap();
-    // No limits (+inf coefficients): a tensile contact's zero limit force times +inf must
-    // give "no limit" in every lane, not NaN.
+    // No limits (+inf coefficients): a tensile contact's zero limit force times +inf goes
+    // through limit_of's select in every lane. (Before limit_of the product was NaN and, since
+    // every clip compares `> limit`, acted as no limit too: this is a regression guard of the
+    // lanes agreeing with the per-contact step, not a test that could have caught that NaN.)
     let mut unlimited = full;
     unlimited.sliding.friction = f64::INFINITY;
     unlimited.rolling.friction = f64::INFINITY;
