@@ -10,7 +10,7 @@ use crate::geometry::{
     check_finite_vec, pair_geometry, pair_geometry_unchecked, wall_geometry,
     wall_geometry_unchecked, ContactGeometry, GeometryOptions,
 };
-use crate::scalar::{tangential, Real, Vec3};
+use crate::scalar::{cross, tangential, Real, Vec3};
 use nalgebra::RealField;
 
 /// Which parts of the decomposition to compute (bit set). The geometry is always computed;
@@ -149,7 +149,7 @@ fn finish<T: Real>(
         // Form w1 - w2 first (kinematics.md section 7).
         let dw = rel.w1 - rel.w2;
         if parts.contains(Parts::ROLLING) {
-            out.rolling_velocity = dw.cross(&n) * geometry.rolling_radius;
+            out.rolling_velocity = cross(&dw, &n) * geometry.rolling_radius;
         }
         if parts.contains(Parts::TWISTING) {
             out.twisting_rate = dw.dot(&n);
@@ -159,14 +159,14 @@ fn finish<T: Real>(
         let spin = (rel.w1 + rel.w2).dot(&n) * crate::scalar::lit(0.5);
         let contact_velocity = rel.v1
             + n * (geometry.branch_rate_factor * normal_rate)
-            + tumbling.cross(&n) * geometry.branch1;
+            + cross(&tumbling, &n) * geometry.branch1;
         if parts.contains(Parts::RIGID) {
             out.contact_velocity = contact_velocity;
             out.tumbling = tumbling;
             out.frame_spin = spin;
         }
         if parts.contains(Parts::OBJECTIVE) {
-            let material1 = rel.v1 + rel.w1.cross(&n) * geometry.branch1;
+            let material1 = rel.v1 + cross(&rel.w1, &n) * geometry.branch1;
             out.objective_velocity1 = material1 - contact_velocity;
             if let Some(material2) = rel.material2 {
                 out.objective_velocity2 = material2 - contact_velocity;
@@ -224,17 +224,17 @@ fn decompose_pair_in<T: Real>(
     let sliding = if parts.contains(Parts::SLIDING) {
         // v_s = -(dv)_t + (l1 w1 + l2 w2) x n; the cross product is tangential by construction.
         let arms = body1.angular_velocity * g.branch1 + body2.angular_velocity * g.branch2;
-        arms.cross(&n) - tangential(&dv, &n)
+        cross(&arms, &n) - tangential(&dv, &n)
     } else {
         Vec3::zeros()
     };
     let tumbling = if need_rigid {
-        n.cross(&dv) / g.distance
+        cross(&n, &dv) / g.distance
     } else {
         Vec3::zeros()
     };
     let material2 = if parts.contains(Parts::OBJECTIVE) {
-        Some(body2.velocity - body2.angular_velocity.cross(&n) * g.branch2)
+        Some(body2.velocity - cross(&body2.angular_velocity, &n) * g.branch2)
     } else {
         None
     };
@@ -289,10 +289,10 @@ fn decompose_wall_in<T: Real>(
 ) -> Decomposition<T> {
     let n = g.normal;
     // Material velocity of the wall at the contact point.
-    let material2 = wall.velocity + wall.angular_velocity.cross(&(g.contact_point - wall.point));
+    let material2 = wall.velocity + cross(&wall.angular_velocity, &(g.contact_point - wall.point));
     let normal_rate = (material2 - sphere.velocity).dot(&n);
     let sliding = if parts.contains(Parts::SLIDING) {
-        let material1 = sphere.velocity + sphere.angular_velocity.cross(&n) * g.branch1;
+        let material1 = sphere.velocity + cross(&sphere.angular_velocity, &n) * g.branch1;
         tangential(&(material1 - material2), &n)
     } else {
         Vec3::zeros()

@@ -3,7 +3,7 @@
 //! a round trip returns the inputs to rounding.
 
 use crate::decompose::Decomposition;
-use crate::scalar::{lit, Real, Vec3};
+use crate::scalar::{cross, lit, Real, Vec3};
 
 /// Velocities of two spheres recovered from a decomposition.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,7 +34,7 @@ pub struct WallVelocities<T: Real> {
 /// `(w1 - w2)_t` from the rolling velocity: `n x v_r / R_r`.
 #[inline(always)]
 fn tangential_spin_difference<T: Real>(d: &Decomposition<T>) -> Vec3<T> {
-    d.geometry.normal.cross(&d.rolling_velocity) / d.geometry.rolling_radius
+    cross(&d.geometry.normal, &d.rolling_velocity) / d.geometry.rolling_radius
 }
 
 /// Velocity of body 1 from the contact velocity: `v1 = v_c - (dl1/dt) n - l1 w_rbr x n`.
@@ -43,7 +43,7 @@ fn velocity1<T: Real>(d: &Decomposition<T>) -> Vec3<T> {
     let g = &d.geometry;
     d.contact_velocity
         - g.normal * (g.branch_rate_factor * d.normal_rate)
-        - d.tumbling.cross(&g.normal) * g.branch1
+        - cross(&d.tumbling, &g.normal) * g.branch1
 }
 
 /// Recovers `(v1, w1, v2, w2)` of a sphere pair. `d` must hold every part
@@ -54,14 +54,14 @@ pub fn compose_pair<T: Real>(d: &Decomposition<T>) -> PairVelocities<T> {
     let n = g.normal;
     let spin_diff_t = tangential_spin_difference(d);
     // A = (l1 w1 + l2 w2)_t = n x v_s + d w_rbr.
-    let arms_t = n.cross(&d.sliding_velocity) + d.tumbling * g.distance;
+    let arms_t = cross(&n, &d.sliding_velocity) + d.tumbling * g.distance;
     let half_twist = d.twisting_rate * lit(0.5);
     // l1 + l2 = d under the midplane rule, R1 + R2 under the radii rule.
     let span = g.branch1 + g.branch2;
     let w1 = (arms_t + spin_diff_t * g.branch2) / span + n * (d.frame_spin + half_twist);
     let w2 = (arms_t - spin_diff_t * g.branch1) / span + n * (d.frame_spin - half_twist);
     let v1 = velocity1(d);
-    let dv = n * d.normal_rate + d.tumbling.cross(&n) * g.distance;
+    let dv = n * d.normal_rate + cross(&d.tumbling, &n) * g.distance;
     PairVelocities {
         velocity1: v1,
         angular_velocity1: w1,
@@ -79,7 +79,7 @@ pub fn compose_wall<T: Real>(d: &Decomposition<T>) -> WallVelocities<T> {
     let wall_w = d.tumbling + n * (d.frame_spin - half_twist);
     let w1 = d.tumbling + tangential_spin_difference(d) + n * (d.frame_spin + half_twist);
     let v1 = velocity1(d);
-    let material1 = v1 + w1.cross(&n) * g.branch1;
+    let material1 = v1 + cross(&w1, &n) * g.branch1;
     let material1_t = material1 - n * material1.dot(&n);
     let wall_contact_velocity = material1_t - d.sliding_velocity + n * (v1.dot(&n) + d.normal_rate);
     WallVelocities {

@@ -4,7 +4,7 @@
 use crate::decompose::{decompose_pair, Parts, Sphere};
 use crate::error::Error;
 use crate::geometry::GeometryOptions;
-use crate::scalar::{lit, tangential, Real, Vec3};
+use crate::scalar::{cross, lit, tangential, Real, Vec3};
 use nalgebra::RealField;
 
 /// Two legacy rolling measures of one sphere pair (body 1 relative to body 2).
@@ -30,9 +30,10 @@ pub fn legacy_rolling<T: RealField + Copy>(
     let n = d.geometry.normal;
     let half = lit::<T>(0.5);
     let mean = (d.objective_velocity1 + d.objective_velocity2) * half;
-    let io = (body1.angular_velocity * body1.radius - body2.angular_velocity * body2.radius)
-        .cross(&n)
-        * half;
+    let io = cross(
+        &(body1.angular_velocity * body1.radius - body2.angular_velocity * body2.radius),
+        &n,
+    ) * half;
     let out = LegacyRolling {
         kuhn_bagi: tangential(&mean, &n),
         iwashita_oda: io,

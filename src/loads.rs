@@ -5,7 +5,7 @@
 //! body 1 about `n`. Torques are about each body's centre.
 
 use crate::geometry::ContactGeometry;
-use crate::scalar::{Real, Vec3};
+use crate::scalar::{cross, Real, Vec3};
 
 /// Force and torque on each body of one contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,7 +34,7 @@ pub fn contact_loads<T: Real>(
     twisting_moment: T,
     is_wall: bool,
 ) -> ContactLoads<T> {
-    let rolling_moment = g.normal.cross(rolling_force) * g.rolling_radius;
+    let rolling_moment = cross(&g.normal, rolling_force) * g.rolling_radius;
     contact_loads_from_moment(
         g,
         normal_force,
@@ -72,7 +72,7 @@ pub fn contact_loads_from_couple<T: Real>(
 ) -> ContactLoads<T> {
     let n = g.normal;
     let force1 = sliding_force - n * normal_force;
-    let n_x_ft = n.cross(sliding_force);
+    let n_x_ft = cross(&n, sliding_force);
     let torque1 = n_x_ft * g.branch1 + couple;
     let torque2 = if is_wall {
         -couple

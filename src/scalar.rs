@@ -22,6 +22,19 @@ pub fn lit<T: Real>(x: f64) -> T {
     nalgebra::convert(x)
 }
 
+/// The cross product `a x b`, as nalgebra's `Matrix::cross` computes it (the same products
+/// and differences in the same order, so the same bits), but always inlined: the batch kernels'
+/// SIMD lane types reach their instructions only where the physics is inlined into a kernel
+/// compiled for those instructions.
+#[inline(always)]
+pub fn cross<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
+    Vec3::new(
+        a.y * b.z - a.z * b.y,
+        a.z * b.x - a.x * b.z,
+        a.x * b.y - a.y * b.x,
+    )
+}
+
 /// The tangential part of `v` with respect to the unit normal `n`: `v - (v . n) n`.
 #[inline(always)]
 pub fn tangential<T: Real>(v: &Vec3<T>, n: &Vec3<T>) -> Vec3<T> {

@@ -333,14 +333,10 @@ impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
     }
     #[inline(always)]
     fn bodies(&self) -> (Sphere<L>, Sphere<L>) {
-        let body = |rows: &[Row; BODY_WORDS]| {
-            moving(
-                load3(rows3(rows, VELOCITY), self.at),
-                load3(rows3(rows, ANGULAR_VELOCITY), self.at),
-                L::load(&rows[RADIUS][self.at..]),
-            )
-        };
-        (body(&self.block.body1), body(&self.block.body2))
+        (
+            body_at(&self.block.body1, self.at),
+            body_at(&self.block.body2, self.at),
+        )
     }
     #[inline(always)]
     fn forces(&self, needs_kn: bool) -> (L, L) {
@@ -561,6 +557,16 @@ fn step_inputs<L: Lanes>(
 fn slip_bits(slips: &[u64; 3], k: usize) -> u32 {
     let bit = |mask: u64, flag: u32| ((mask >> k) & 1) as u32 * flag;
     bit(slips[0], SLIP_SLIDING) | bit(slips[1], SLIP_ROLLING) | bit(slips[2], SLIP_TWISTING)
+}
+
+/// The moving body in slots `at..at + L::N` of a body's rows (its position left at zero).
+#[inline(always)]
+fn body_at<L: Lanes>(rows: &[Row; BODY_WORDS], at: usize) -> Sphere<L> {
+    moving(
+        load3(rows3(rows, VELOCITY), at),
+        load3(rows3(rows, ANGULAR_VELOCITY), at),
+        L::load(&rows[RADIUS][at..]),
+    )
 }
 
 /// A body in lanes, its position left at zero (the rates and the laws read the geometry).

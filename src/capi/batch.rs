@@ -350,8 +350,8 @@ fn scalar_f32<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchRe
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::*;
+    use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4, F64x8};
     use crate::capi::transpose::{Avx2Copy, Avx512Copy};
-    use simba::simd::{AutoF32x8, AutoF64x8};
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
@@ -366,7 +366,7 @@ mod x86 {
         // lanes (edited builds, same bench driver). Before the staging, four lanes were the
         // faster (41 against 49).
         // SAFETY: the caller guarantees AVX2.
-        step_kernel::<AutoF64x8, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
+        step_kernel::<F64x4, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
     }
 
     /// # Safety
@@ -378,7 +378,7 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         // SAFETY: the caller guarantees AVX2.
-        step_kernel::<AutoF32x8, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
+        step_kernel::<F32x8N, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
     }
 
     /// # Safety
@@ -390,7 +390,7 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         // SAFETY: the caller guarantees AVX-512 F/DQ.
-        step_kernel::<AutoF64x8, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
+        step_kernel::<F64x8, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
     }
 
     /// # Safety
@@ -402,7 +402,7 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         // SAFETY: the caller guarantees AVX-512 F/DQ.
-        step_kernel::<AutoF32x8, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
+        step_kernel::<F32x8W, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
     }
 
     /// # Safety
@@ -415,9 +415,9 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         if f32 {
-            decompose_kernel::<AutoF32x8, A>(o, p, a)
+            decompose_kernel::<F32x8N, A>(o, p, a)
         } else {
-            decompose_kernel::<AutoF64x8, A>(o, p, a)
+            decompose_kernel::<F64x4, A>(o, p, a)
         }
     }
 
@@ -431,9 +431,9 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         if f32 {
-            decompose_kernel::<AutoF32x8, A>(o, p, a)
+            decompose_kernel::<F32x8W, A>(o, p, a)
         } else {
-            decompose_kernel::<AutoF64x8, A>(o, p, a)
+            decompose_kernel::<F64x8, A>(o, p, a)
         }
     }
 }

@@ -9,6 +9,8 @@ pub mod batch;
 pub mod contact;
 pub mod decompose;
 mod finite;
+#[cfg(target_arch = "x86_64")]
+mod lanes_x86;
 pub mod model;
 pub mod status;
 mod transpose;

@@ -18,7 +18,9 @@ use crate::laws::spring::{
 };
 use crate::laws::transport::{transport, Frame, RescaleWhen};
 use crate::loads::{contact_loads_from_couple, ContactLoads};
-use crate::scalar::{lit, mask, rescale_overflowed, select, select3, tangential, Real, Vec3};
+use crate::scalar::{
+    cross, lit, mask, rescale_overflowed, select, select3, tangential, Real, Vec3,
+};
 
 /// Per-call inputs of a contact step besides the bodies.
 #[derive(Clone, Copy, Debug)]
@@ -201,6 +203,30 @@ fn transport_energy<T: Real>(storage: Storage, k: T, before: &Vec3<T>, after: &V
     }
 }
 
+/// The rolling moment on body 1 of a rolling-law load: the load itself in the angle form
+/// (a moment, N m), `R_r n x load` in the length form (a force, N, acting at arm `R_r`).
+#[inline(always)]
+fn rolling_moment_of<T: Real>(load: &Vec3<T>, n: &Vec3<T>, r_r: T, angle: bool) -> Vec3<T> {
+    if angle {
+        *load
+    } else {
+        cross(n, load) * r_r
+    }
+}
+
+/// `v / |v|` (zero for a zero `v`), from a rescaled copy where `|v|^2` overflowed (else that
+/// lane's direction, hence its moment, would be zero). Returns the direction and `|v|`.
+#[inline(always)]
+fn unit_and_norm<T: Real>(v: &Vec3<T>) -> (Vec3<T>, T) {
+    let norm = v.norm();
+    let (v, length, norm) = match rescale_overflowed(v, norm) {
+        None => (*v, norm, norm),
+        Some(r) => (v / r.divisor, r.scaled_norm, r.norm),
+    };
+    let safe = select(length.simd_gt(T::zero()), length, T::one());
+    (v / safe, norm)
+}
+
 /// A limit `coefficient * force` where `+inf` in either factor means "no limit": `0 * inf`
 /// (NaN) becomes the coefficient itself, so an infinite coefficient stays +inf at zero force
 /// and a zero coefficient stays 0 under an infinite limit force. Both factors are >= 0 (not
@@ -288,13 +314,16 @@ pub fn contact_step_with_geometry<T: Real>(
     let f_n = input.normal_force;
     // The limits' force: the host's, or the preset's rule for a signed f_n (for f_n >= 0, and
     // -0, both rules give f_n itself, bit for bit).
-    let f_limit = input.limit_force.unwrap_or_else(|| {
-        let tensile = f_n.simd_lt(zero);
-        match conv.tension_limit {
-            TensionLimit::Compressive => select(tensile, zero, f_n),
-            TensionLimit::Magnitude => select(tensile, -f_n, f_n),
+    let f_limit = match input.limit_force {
+        Some(limit) => limit,
+        None => {
+            let tensile = f_n.simd_lt(zero);
+            match conv.tension_limit {
+                TensionLimit::Compressive => select(tensile, zero, f_n),
+                TensionLimit::Magnitude => select(tensile, -f_n, f_n),
+            }
         }
-    });
+    };
     let energy_on = model.track_energy;
     let (increment_sliding, increment_rolling, store) = if input.setup {
         (
@@ -329,10 +358,8 @@ pub fn contact_step_with_geometry<T: Real>(
     // 2-5. Sliding.
     let k_t = input
         .sliding_stiffness
-        .unwrap_or_else(|| lit(model.sliding.stiffness));
-    let gamma_t = input
-        .sliding_damping
-        .unwrap_or_else(|| lit(model.sliding.damping));
+        .unwrap_or(lit(model.sliding.stiffness));
+    let gamma_t = input.sliding_damping.unwrap_or(lit(model.sliding.damping));
     let mut sliding_force = Vec3::zeros();
     let mut sliding_energy = SpringEnergy::zero();
     let mut slipped_s = mask::<T>(false);
@@ -350,15 +377,15 @@ pub fn contact_step_with_geometry<T: Real>(
             (SlidingRate::Radii, Partner::Sphere(b2)) => {
                 // As LAMMPS writes it: (R1 w1 + R2 w2) x n - (v2 - v1)_t.
                 let arms = w1 * body1.radius + w2 * b2.radius;
-                v_s = arms.cross(&n) - tangential(&(b2.velocity - body1.velocity), &n);
+                v_s = cross(&arms, &n) - tangential(&(b2.velocity - body1.velocity), &n);
             }
             (SlidingRate::Radii | SlidingRate::YadeScaled, _) => {
                 let arm1 = body1.radius - g.branch1;
                 v_s += match body2 {
                     Partner::Sphere(b2) => {
-                        w1.cross(&n) * arm1 + w2.cross(&n) * (b2.radius - g.branch2)
+                        cross(&w1, &n) * arm1 + cross(&w2, &n) * (b2.radius - g.branch2)
                     }
-                    Partner::Wall(_) => w1.cross(&n) * arm1,
+                    Partner::Wall(_) => cross(&w1, &n) * arm1,
                 };
                 if let (SlidingRate::YadeScaled, Partner::Sphere(b2)) = (sliding_rate, body2) {
                     let dv_t = tangential(&(b2.velocity - body1.velocity), &n);
@@ -416,41 +443,22 @@ pub fn contact_step_with_geometry<T: Real>(
         // torsion torque (angle form only, checked by the model).
         let spin = if model.torsion_torque { dw } else { dw_t };
         // The rate conjugate to the stored spring: the spin or v_r = R_r (w1 - w2) x n.
-        let rate = if angle { spin } else { dw.cross(&n) * r_r };
-        let friction = input.rolling_friction.unwrap_or_else(|| lit(p.friction));
+        let rate = if angle { spin } else { cross(&dw, &n) * r_r };
+        let friction = input.rolling_friction.unwrap_or(lit(p.friction));
         // mu_r (dimensionless) whatever the form.
         let mu_r = if angle { friction / r_r } else { friction };
         let limit = limit_of(friction, f_limit);
-        let to_moment = |load: &Vec3<T>| -> Vec3<T> {
-            if angle {
-                *load
-            } else {
-                n.cross(load) * r_r
-            }
-        };
         match p.law {
             RollingLaw::None => {}
             RollingLaw::Cdt => {
-                // `v / |v|` (zero for a zero `v`), from a rescaled copy where `|v|^2`
-                // overflowed (else that lane's direction, hence its moment, would be zero).
-                // Returns the direction and `|v|`.
-                let unit = |v: &Vec3<T>| -> (Vec3<T>, T) {
-                    let norm = v.norm();
-                    let (v, length, norm) = match rescale_overflowed(v, norm) {
-                        None => (*v, norm, norm),
-                        Some(r) => (v / r.divisor, r.scaled_norm, r.norm),
-                    };
-                    let safe = select(length.simd_gt(zero), length, T::one());
-                    (v / safe, norm)
-                };
-                let (spin_unit, spin_norm) = unit(&spin);
+                let (spin_unit, spin_norm) = unit_and_norm(&spin);
                 let (force, direction) = if conv.cdt_liggghts {
                     // LIGGGHTS: elastic normal force k_n delta; w/|w| with the normal part
                     // removed after normalising (kept with its torsion torque).
                     let direction = if model.torsion_torque {
                         spin_unit
                     } else {
-                        tangential(&unit(&dw).0, &n)
+                        tangential(&unit_and_norm(&dw).0, &n)
                     };
                     (input.normal_stiffness * g.overlap, direction)
                 } else {
@@ -471,7 +479,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 }
             }
             RollingLaw::Viscous => {
-                let gamma = input.rolling_damping.unwrap_or_else(|| lit(p.damping));
+                let gamma = input.rolling_damping.unwrap_or(lit(p.damping));
                 let load = rate * (-gamma);
                 let magnitude = load.norm();
                 // Clipped from a rescaled copy where |load|^2 overflowed (see vector_spring).
@@ -481,7 +489,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 };
                 let scale = limit / select(over, length, T::one());
                 let load = select3(over, &(load_in_range * scale), &load);
-                rolling_moment = to_moment(&load);
+                rolling_moment = rolling_moment_of(&load, &n, r_r, angle);
                 slipped_r = over;
                 if energy_on {
                     rolling_energy.dashpot = -load.dot(&rate) * dt;
@@ -506,7 +514,7 @@ pub fn contact_step_with_geometry<T: Real>(
                     (None, Some(k_theta)) if angle => k_theta,
                     (None, Some(k_theta)) => k_theta / r2,
                 };
-                let damping = input.rolling_damping.unwrap_or_else(|| lit(p.damping));
+                let damping = input.rolling_damping.unwrap_or(lit(p.damping));
                 let gamma = match p.damping_rule {
                     RollingDamping::Given => damping,
                     RollingDamping::Ratio => {
@@ -559,7 +567,7 @@ pub fn contact_step_with_geometry<T: Real>(
                     increment_rolling,
                     energy_on,
                 );
-                rolling_moment = to_moment(&r.load);
+                rolling_moment = rolling_moment_of(&r.load, &n, r_r, angle);
                 rolling_energy = r.energy;
                 slipped_r = r.slipped;
                 new_state.rolling_spring = r.spring;
@@ -596,12 +604,9 @@ pub fn contact_step_with_geometry<T: Real>(
                 }
             }
             _ => SpringCoefficients {
-                stiffness: input.twisting_stiffness.unwrap_or_else(|| lit(t.stiffness)),
-                damping: input.twisting_damping.unwrap_or_else(|| lit(t.damping)),
-                limit: limit_of(
-                    input.twisting_friction.unwrap_or_else(|| lit(t.friction)),
-                    f_limit,
-                ),
+                stiffness: input.twisting_stiffness.unwrap_or(lit(t.stiffness)),
+                damping: input.twisting_damping.unwrap_or(lit(t.damping)),
+                limit: limit_of(input.twisting_friction.unwrap_or(lit(t.friction)), f_limit),
             },
         };
         if conv.twist_vector {

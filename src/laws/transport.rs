@@ -2,7 +2,7 @@
 //! the previous contact frame to the current one. Written once for every [`Real`] type.
 
 use crate::laws::model::Transport;
-use crate::scalar::{lit, select3, tangential, Real, Vec3};
+use crate::scalar::{cross, lit, select3, tangential, Real, Vec3};
 
 /// What a transport needs to know about the step.
 pub struct Frame<T: Real> {
@@ -43,7 +43,7 @@ fn spin_about<T: Real>(u: &Vec3<T>, n: &Vec3<T>, angle: T) -> Vec3<T> {
     let inv = T::one() / (T::one() + t2);
     let cos = (T::one() - t2) * inv;
     let sin = (t + t) * inv;
-    u * cos + n.cross(u) * sin
+    u * cos + cross(n, u) * sin
 }
 
 /// Transports `u` with `scheme`; `rescale` says when project-rescale acts.
@@ -59,15 +59,15 @@ pub fn transport<T: Real>(
     match scheme {
         Transport::Exact => {
             // Minimal rotation a -> b: R u = u + c x u + c x (c x u)/(1 + a.b), c = a x b.
-            let c = a.cross(b);
+            let c = cross(a, b);
             let cos = a.dot(b);
             let one_plus = T::one() + cos;
             // A normal that flipped in one step (1 + a.b ~ 0) has no minimal rotation; fall
             // back to projection, which is what any scheme can do there.
             let ok = one_plus.simd_gt(lit(1e-12));
             let safe = crate::scalar::select(ok, one_plus, T::one());
-            let cu = c.cross(u);
-            let rotated = u + cu + c.cross(&cu) / safe;
+            let cu = cross(&c, u);
+            let rotated = u + cu + cross(&c, &cu) / safe;
             let swung = select3(ok, &rotated, &tangential(u, b));
             let spun = spin_about(&swung, b, frame.spin_angle);
             // Remove the rounding drift out of the tangent plane (changes |u| by O(eps^2)).
@@ -89,10 +89,10 @@ pub fn transport<T: Real>(
             select3(act, &(projected * scale), u)
         }
         Transport::FirstOrder => {
-            let axis = a.cross(b);
-            let v = u - u.cross(&axis);
+            let axis = cross(a, b);
+            let v = u - cross(u, &axis);
             let twist = a * frame.half_spin_old;
-            v - v.cross(&twist)
+            v - cross(&v, &twist)
         }
         Transport::Project => tangential(u, b),
         Transport::None => *u,
