@@ -152,9 +152,13 @@ pub fn vector_spring<T: Real>(
                 let clipped = load_in_range * scale;
                 let elastic_reset = clipped + damping_load;
                 let spring_reset = match storage {
-                    Storage::Displacement => {
-                        select3(k_positive, &(elastic_reset / (-safe_k)), &trial)
-                    }
+                    // `(-1/k) E`, one division for the three components, as LAMMPS
+                    // writes it (`-1.0/k_tangential*(...)`), hence its bits.
+                    Storage::Displacement => select3(
+                        k_positive,
+                        &(elastic_reset * (-(T::one() / safe_k))),
+                        &trial,
+                    ),
                     Storage::Load => elastic_reset,
                 };
                 let mut new_spring = select3(slipped, &spring_reset, &trial);
@@ -255,7 +259,12 @@ pub fn scalar_spring<T: Real>(
                     sign(load)
                 };
                 let clipped = c.limit * direction;
-                let reset = select(k_positive, -(clipped + damping_load) / safe_k, trial);
+                // `(1/k) (-M)`, as LAMMPS writes it (`1.0/k_twist*(...)`), hence its bits.
+                let reset = select(
+                    k_positive,
+                    -(clipped + damping_load) * (one / safe_k),
+                    trial,
+                );
                 (
                     select(slipped, clipped, load),
                     select(slipped, reset, trial),
