@@ -10,7 +10,7 @@ use crate::geometry::{
     check_finite_vec, pair_geometry, pair_geometry_unchecked, wall_geometry,
     wall_geometry_unchecked, ContactGeometry, GeometryOptions,
 };
-use crate::scalar::{cross, tangential, Real, Vec3};
+use crate::scalar::{cross, dot, tangential, Real, Vec3};
 use nalgebra::RealField;
 
 /// Which parts of the decomposition to compute (bit set). The geometry is always computed;
@@ -152,11 +152,11 @@ fn finish<T: Real>(
             out.rolling_velocity = cross(&dw, &n) * geometry.rolling_radius;
         }
         if parts.contains(Parts::TWISTING) {
-            out.twisting_rate = dw.dot(&n);
+            out.twisting_rate = dot(&dw, &n);
         }
     }
     if need_rigid {
-        let spin = (rel.w1 + rel.w2).dot(&n) * crate::scalar::lit(0.5);
+        let spin = dot(&(rel.w1 + rel.w2), &n) * crate::scalar::lit(0.5);
         let contact_velocity = rel.v1
             + n * (geometry.branch_rate_factor * normal_rate)
             + cross(&tumbling, &n) * geometry.branch1;
@@ -219,7 +219,7 @@ fn decompose_pair_in<T: Real>(
 ) -> Decomposition<T> {
     let n = g.normal;
     let dv = body2.velocity - body1.velocity;
-    let normal_rate = dv.dot(&n);
+    let normal_rate = dot(&dv, &n);
     let need_rigid = parts.contains(Parts::RIGID) || parts.contains(Parts::OBJECTIVE);
     let sliding = if parts.contains(Parts::SLIDING) {
         // v_s = -(dv)_t + (l1 w1 + l2 w2) x n; the cross product is tangential by construction.
@@ -290,7 +290,7 @@ fn decompose_wall_in<T: Real>(
     let n = g.normal;
     // Material velocity of the wall at the contact point.
     let material2 = wall.velocity + cross(&wall.angular_velocity, &(g.contact_point - wall.point));
-    let normal_rate = (material2 - sphere.velocity).dot(&n);
+    let normal_rate = dot(&(material2 - sphere.velocity), &n);
     let sliding = if parts.contains(Parts::SLIDING) {
         let material1 = sphere.velocity + cross(&sphere.angular_velocity, &n) * g.branch1;
         tangential(&(material1 - material2), &n)

@@ -5,7 +5,7 @@
 //! normal `n` points **from body 1 to body 2** (into the wall). Lengths are in the caller's unit.
 
 use crate::error::Error;
-use crate::scalar::{finite_probe, lit, zero_if_finite, Real, Vec3};
+use crate::scalar::{dot, finite_probe, lit, norm, norm_squared, zero_if_finite, Real, Vec3};
 use nalgebra::RealField;
 
 /// Where the two branch vectors end (kinematics.md section 2, a **convention**).
@@ -73,7 +73,7 @@ pub fn pair_geometry_unchecked<T: Real>(
     options: GeometryOptions,
 ) -> ContactGeometry<T> {
     let branch = r2 - r1;
-    let distance = branch.norm();
+    let distance = norm(&branch);
     // One division, as LAMMPS and LIGGGHTS do (`rinv = 1/r`), not three.
     let normal = branch * (T::one() / distance);
     let overlap = radius1 + radius2 - distance;
@@ -116,7 +116,7 @@ pub fn wall_geometry_unchecked<T: Real>(
     options: GeometryOptions,
 ) -> ContactGeometry<T> {
     let normal = -wall_normal;
-    let height = (r1 - wall_point).dot(wall_normal);
+    let height = dot(&(r1 - wall_point), wall_normal);
     let overlap = radius1 - height;
     let infinity = lit::<T>(f64::INFINITY);
     let (branch1, branch_rate_factor) = match options.branch_rule {
@@ -182,7 +182,7 @@ fn check_branches<T: RealField + Copy>(g: &ContactGeometry<T>) -> Result<(), Err
 /// squared components underflow into subnormal numbers (found by fuzzing: centres 1e-160 apart
 /// gave |n| = 1.3).
 fn is_unit<T: RealField + Copy>(n: &Vec3<T>) -> bool {
-    (n.norm_squared() - T::one()).abs() <= lit::<T>(16.0) * T::default_epsilon()
+    (norm_squared(n) - T::one()).abs() <= lit::<T>(16.0) * T::default_epsilon()
 }
 
 /// Geometry of a sphere pair with every check of kinematics.md section 7: finite input,
@@ -199,7 +199,7 @@ pub fn pair_geometry<T: RealField + Copy>(
     check_finite_vec(r2, "position of body 2")?;
     check_radius(radius1, "radius of body 1")?;
     check_radius(radius2, "radius of body 2")?;
-    let d = (r2 - r1).norm();
+    let d = norm(&(r2 - r1));
     if !d.is_finite() {
         return Err(Error::NonFinite("centre distance (overflow)"));
     }
@@ -252,7 +252,7 @@ pub fn pair_geometry_in_range<T: Real>(
         & g.distance.simd_ge(eps * (radius1 + radius2))
         // A distance whose square underflows (below ~1.5e-154) gives a normal that is not
         // unit: refused (see `is_unit`).
-        & (g.normal.norm_squared() - T::one())
+        & (norm_squared(&g.normal) - T::one())
             .simd_abs()
             .simd_le(lit::<T>(16.0) * eps)
         & g.branch1.simd_gt(zero)
@@ -265,7 +265,7 @@ pub fn pair_geometry_in_range<T: Real>(
 /// then inaccurate or 0), `v` is first divided by its largest absolute component, which
 /// brings the length to between 1 and `sqrt 3`.
 fn unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> Option<Vec3<T>> {
-    let len = v.norm();
+    let len = norm(v);
     if is_positive(len) && len.is_finite() {
         let unit = v / len;
         if is_unit(&unit) {
@@ -277,7 +277,7 @@ fn unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> Option<Vec3<T>> {
         return None;
     }
     let scaled = v / largest;
-    Some(scaled / scaled.norm())
+    Some(scaled / norm(&scaled))
 }
 
 /// Geometry of a sphere against a flat wall with every check: finite input, radius > 0, a

@@ -35,10 +35,30 @@ pub fn cross<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
     )
 }
 
+/// The dot product `a . b = (a_x b_x + a_y b_y) + a_z b_z`, as nalgebra's `dot` computes it
+/// for 3-vectors (same order, same bits), always inlined (see [`cross`]).
+#[inline(always)]
+pub fn dot<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> T {
+    a.x * b.x + a.y * b.y + a.z * b.z
+}
+
+/// `|v|^2 = v . v`, with nalgebra's bits (its `norm_squared` adds `v . v` to a zero, which
+/// changes no bit of a square), always inlined.
+#[inline(always)]
+pub fn norm_squared<T: Real>(v: &Vec3<T>) -> T {
+    dot(v, v)
+}
+
+/// `|v| = sqrt(v . v)`, with nalgebra's bits, always inlined.
+#[inline(always)]
+pub fn norm<T: Real>(v: &Vec3<T>) -> T {
+    norm_squared(v).simd_sqrt()
+}
+
 /// The tangential part of `v` with respect to the unit normal `n`: `v - (v . n) n`.
 #[inline(always)]
 pub fn tangential<T: Real>(v: &Vec3<T>, n: &Vec3<T>) -> Vec3<T> {
-    v - n * v.dot(n)
+    v - n * dot(v, n)
 }
 
 /// Lane-wise choice: `a` where `cond` holds, else `b` (a plain `if` for scalars).
@@ -81,7 +101,7 @@ pub struct Rescaled<T> {
     pub norm: T,
 }
 
-/// Where `norm` (that is `v.norm()`, `sqrt(v . v)`) overflowed to +inf, the lengths to use
+/// Where `norm` (that is `|v|`, `sqrt(v . v)`) overflowed to +inf, the lengths to use
 /// instead: `v . v` overflows from `|v|` about `1.3e154` in `f64` (`1.8e19` in `f32`), long
 /// before `v` itself does, and a clip `v * (limit / |v|)` or a direction `v / |v|` then gives
 /// zero. Returns `None` when no lane overflowed (the common case: `v` and `norm` are right as
@@ -100,7 +120,7 @@ pub fn rescale_overflowed<T: Real>(v: &Vec3<T>, norm: T) -> Option<Rescaled<T>> 
             .simd_max(v.y.simd_abs())
             .simd_max(v.z.simd_abs());
     let divisor = select(over, largest, T::one());
-    let scaled_norm = select(over, (v / divisor).norm(), norm);
+    let scaled_norm = select(over, self::norm(&(v / divisor)), norm);
     Some(Rescaled {
         divisor,
         scaled_norm,

@@ -502,105 +502,100 @@ pub(crate) struct F64x4x2([F64x4; 2]);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Mask4dx2([Mask4d; 2]);
 
-/// `F64x4x2`'s operations: `F64x4`'s on each half.
-macro_rules! halves {
-    ($($op:ident),*) => {
-        impl F64x4x2 {
-            $(
-                #[inline(always)]
-                fn $op(self, o: Self) -> Self {
-                    Self([self.0[0].$op(o.0[0]), self.0[1].$op(o.0[1])])
-                }
-            )*
+/// The primitive operations of `$pair`, two `$half` values side by side (`$n` lanes each).
+macro_rules! pair_ops {
+    ($pair:ident, $half:ident, $pmask:ident, $hmask:ident, $e:ty, $n:expr) => {
+        impl $pair {
+            #[inline(always)]
+            fn splat_(x: $e) -> Self {
+                Self([$half::splat_(x); 2])
+            }
+            #[inline(always)]
+            fn from_array(a: [$e; 2 * $n]) -> Self {
+                Self([
+                    $half::from_array(std::array::from_fn(|k| a[k])),
+                    $half::from_array(std::array::from_fn(|k| a[$n + k])),
+                ])
+            }
+            #[inline(always)]
+            fn to_array(self) -> [$e; 2 * $n] {
+                let (lo, hi) = (self.0[0].to_array(), self.0[1].to_array());
+                std::array::from_fn(|k| if k < $n { lo[k] } else { hi[k - $n] })
+            }
+            pair_ops!(@bin $half, add_, sub_, mul_, div_, max_, min_);
+            pair_ops!(@un sqrt_, neg_, abs_);
+            pair_ops!(@cmp $pmask, gt_, lt_, ge_, le_, eq_, ne_);
+            /// `self` where `m` is false, `other` where it is true.
+            #[inline(always)]
+            fn blend_(self, m: $pmask, other: Self) -> Self {
+                Self([
+                    self.0[0].blend_(m.0[0], other.0[0]),
+                    self.0[1].blend_(m.0[1], other.0[1]),
+                ])
+            }
+        }
+
+        impl $pmask {
+            #[inline(always)]
+            fn splat_(b: bool) -> Self {
+                Self([$hmask::splat_(b); 2])
+            }
+            #[inline(always)]
+            fn bits_(self) -> u64 {
+                self.0[0].bits_() | self.0[1].bits_() << $n
+            }
+            #[inline(always)]
+            fn and_(self, o: Self) -> Self {
+                Self([self.0[0].and_(o.0[0]), self.0[1].and_(o.0[1])])
+            }
+            #[inline(always)]
+            fn or_(self, o: Self) -> Self {
+                Self([self.0[0].or_(o.0[0]), self.0[1].or_(o.0[1])])
+            }
+            #[inline(always)]
+            fn xor_(self, o: Self) -> Self {
+                Self([self.0[0].xor_(o.0[0]), self.0[1].xor_(o.0[1])])
+            }
+            #[inline(always)]
+            fn not_(self) -> Self {
+                Self([self.0[0].not_(), self.0[1].not_()])
+            }
+            #[inline(always)]
+            fn from_bits(bits: u64) -> Self {
+                Self([
+                    $hmask::from_bits(bits & ((1 << $n) - 1)),
+                    $hmask::from_bits(bits >> $n),
+                ])
+            }
         }
     };
-}
-halves!(add_, sub_, mul_, div_, max_, min_);
-
-/// `F64x4x2`'s comparisons: `F64x4`'s on each half.
-macro_rules! half_compares {
-    ($($op:ident),*) => {
-        impl F64x4x2 {
-            $(
-                #[inline(always)]
-                fn $op(self, o: Self) -> Mask4dx2 {
-                    Mask4dx2([self.0[0].$op(o.0[0]), self.0[1].$op(o.0[1])])
-                }
-            )*
-        }
+    (@bin $half:ident, $($op:ident),*) => {
+        $(
+            #[inline(always)]
+            fn $op(self, o: Self) -> Self {
+                Self([self.0[0].$op(o.0[0]), self.0[1].$op(o.0[1])])
+            }
+        )*
+    };
+    (@un $($op:ident),*) => {
+        $(
+            #[inline(always)]
+            fn $op(self) -> Self {
+                Self([self.0[0].$op(), self.0[1].$op()])
+            }
+        )*
+    };
+    (@cmp $pmask:ident, $($op:ident),*) => {
+        $(
+            #[inline(always)]
+            fn $op(self, o: Self) -> $pmask {
+                $pmask([self.0[0].$op(o.0[0]), self.0[1].$op(o.0[1])])
+            }
+        )*
     };
 }
-half_compares!(gt_, lt_, ge_, le_, eq_, ne_);
 
-impl F64x4x2 {
-    #[inline(always)]
-    fn splat_(x: f64) -> Self {
-        Self([F64x4::splat_(x); 2])
-    }
-    #[inline(always)]
-    fn from_array(a: [f64; 8]) -> Self {
-        Self([
-            F64x4::from_array([a[0], a[1], a[2], a[3]]),
-            F64x4::from_array([a[4], a[5], a[6], a[7]]),
-        ])
-    }
-    #[inline(always)]
-    fn to_array(self) -> [f64; 8] {
-        let (lo, hi) = (self.0[0].to_array(), self.0[1].to_array());
-        [lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]]
-    }
-    #[inline(always)]
-    fn sqrt_(self) -> Self {
-        Self([self.0[0].sqrt_(), self.0[1].sqrt_()])
-    }
-    #[inline(always)]
-    fn neg_(self) -> Self {
-        Self([self.0[0].neg_(), self.0[1].neg_()])
-    }
-    #[inline(always)]
-    fn abs_(self) -> Self {
-        Self([self.0[0].abs_(), self.0[1].abs_()])
-    }
-    /// `self` where `m` is false, `other` where it is true.
-    #[inline(always)]
-    fn blend_(self, m: Mask4dx2, other: Self) -> Self {
-        Self([
-            self.0[0].blend_(m.0[0], other.0[0]),
-            self.0[1].blend_(m.0[1], other.0[1]),
-        ])
-    }
-}
-
-impl Mask4dx2 {
-    #[inline(always)]
-    fn splat_(b: bool) -> Self {
-        Self([Mask4d::splat_(b); 2])
-    }
-    #[inline(always)]
-    fn bits_(self) -> u64 {
-        self.0[0].bits_() | self.0[1].bits_() << 4
-    }
-    #[inline(always)]
-    fn and_(self, o: Self) -> Self {
-        Self([self.0[0].and_(o.0[0]), self.0[1].and_(o.0[1])])
-    }
-    #[inline(always)]
-    fn or_(self, o: Self) -> Self {
-        Self([self.0[0].or_(o.0[0]), self.0[1].or_(o.0[1])])
-    }
-    #[inline(always)]
-    fn xor_(self, o: Self) -> Self {
-        Self([self.0[0].xor_(o.0[0]), self.0[1].xor_(o.0[1])])
-    }
-    #[inline(always)]
-    fn not_(self) -> Self {
-        Self([self.0[0].not_(), self.0[1].not_()])
-    }
-    #[inline(always)]
-    fn from_bits(bits: u64) -> Self {
-        Self([Mask4d::from_bits(bits & 15), Mask4d::from_bits(bits >> 4)])
-    }
-}
+pair_ops!(F64x4x2, F64x4, Mask4dx2, Mask4d, f64, 4);
 
 // ----------------------------------------------------------------------------------------------
 // The traits the generic physics needs (simba's SimdRealField and what it implies), written

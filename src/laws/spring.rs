@@ -4,7 +4,9 @@
 //! whose squared length overflows (about 1.3e154 in `f64`) is clipped from a rescaled copy
 //! ([`rescale_overflowed`]) in its lane only, so it gets its limit, not zero.
 
-use crate::scalar::{lit, mask, rescale_overflowed, select, select3, Real, Vec3};
+use crate::scalar::{
+    lit, mask, norm, norm_squared, rescale_overflowed, select, select3, Real, Vec3,
+};
 use simba::simd::SimdBool;
 
 /// How the limit is applied when the trial load exceeds it.
@@ -135,7 +137,7 @@ pub fn vector_spring<T: Real>(
     let (load, new_spring, new_elastic, slipped, damped) = match rule {
         ClipRule::Total | ClipRule::Lammps => {
             let load = elastic_trial - damping_load;
-            let magnitude = load.norm();
+            let magnitude = norm(&load);
             let slipped = magnitude.simd_gt(c.limit);
             if slipped.none() {
                 // No lane slips: the selects below would all pick the trial values (skipping
@@ -168,7 +170,7 @@ pub fn vector_spring<T: Real>(
                 if rule == ClipRule::Lammps {
                     // LAMMPS: a slipping spring of zero length gives no load at all and stays
                     // empty.
-                    let empty = slipped & trial.norm_squared().simd_le(zero);
+                    let empty = slipped & norm_squared(&trial).simd_le(zero);
                     load = select3(empty, &Vec3::zeros(), &load);
                     new_spring = select3(empty, &trial, &new_spring);
                     new_elastic = select3(empty, &elastic_trial, &new_elastic);
@@ -178,7 +180,7 @@ pub fn vector_spring<T: Real>(
             }
         }
         ClipRule::SpringOnly => {
-            let magnitude = elastic_trial.norm();
+            let magnitude = norm(&elastic_trial);
             let slipped = magnitude.simd_gt(c.limit);
             if slipped.none() {
                 let load = elastic_trial - damping_load;
@@ -205,11 +207,11 @@ pub fn vector_spring<T: Real>(
         }
     };
     let energy = if energy {
-        let elastic = energy_of(new_elastic.norm_squared(), k);
+        let elastic = energy_of(norm_squared(&new_elastic), k);
         SpringEnergy {
             elastic,
-            dashpot: select(damped, c.damping * rate.norm_squared() * dt, zero),
-            slider: energy_of(elastic_trial.norm_squared(), k) - elastic,
+            dashpot: select(damped, c.damping * norm_squared(rate) * dt, zero),
+            slider: energy_of(norm_squared(&elastic_trial), k) - elastic,
         }
     } else {
         SpringEnergy::zero()
@@ -220,6 +222,13 @@ pub fn vector_spring<T: Real>(
         slipped,
         energy,
     }
+}
+
+/// `1`, `-1` or `0` as `x` is positive, negative or zero (or NaN), lane-wise.
+#[inline(always)]
+fn sign_of<T: Real>(x: T) -> T {
+    let (zero, one) = (T::zero(), T::one());
+    select(x.simd_gt(zero), one, select(x.simd_lt(zero), -one, zero))
 }
 
 /// Steps a scalar (twisting) spring stored as a displacement (angle); see [`vector_spring`].
@@ -245,7 +254,6 @@ pub fn scalar_spring<T: Real>(
     let damping_load = rate * c.damping;
     let k_positive = c.stiffness.simd_gt(zero);
     let safe_k = select(k_positive, c.stiffness, one);
-    let sign = |x: T| select(x.simd_gt(zero), one, select(x.simd_lt(zero), -one, zero));
     let (load, new_spring, slipped, damped) = match rule {
         ClipRule::Total | ClipRule::Lammps => {
             let load = -c.stiffness * trial - damping_load;
@@ -254,9 +262,9 @@ pub fn scalar_spring<T: Real>(
                 (load, trial, slipped, mask::<T>(true))
             } else {
                 let direction = if rule == ClipRule::Lammps {
-                    -sign(rate)
+                    -sign_of(rate)
                 } else {
-                    sign(load)
+                    sign_of(load)
                 };
                 let clipped = c.limit * direction;
                 // `(1/k) (-M)`, as LAMMPS writes it (`1.0/k_twist*(...)`), hence its bits.

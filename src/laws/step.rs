@@ -19,7 +19,8 @@ use crate::laws::spring::{
 use crate::laws::transport::{transport, Frame, RescaleWhen};
 use crate::loads::{contact_loads_from_couple, ContactLoads};
 use crate::scalar::{
-    cross, lit, mask, rescale_overflowed, select, select3, tangential, Real, Vec3,
+    cross, dot, lit, mask, norm, norm_squared, rescale_overflowed, select, select3, tangential,
+    Real, Vec3,
 };
 
 /// Per-call inputs of a contact step besides the bodies.
@@ -193,7 +194,7 @@ pub enum Partner<'a, T: Real> {
 /// stored load: the elastic energy the transport created.
 #[inline(always)]
 fn transport_energy<T: Real>(storage: Storage, k: T, before: &Vec3<T>, after: &Vec3<T>) -> T {
-    let diff = (after.norm_squared() - before.norm_squared()) * lit(0.5);
+    let diff = (norm_squared(after) - norm_squared(before)) * lit(0.5);
     match storage {
         Storage::Displacement => k * diff,
         Storage::Load => {
@@ -218,7 +219,7 @@ fn rolling_moment_of<T: Real>(load: &Vec3<T>, n: &Vec3<T>, r_r: T, angle: bool) 
 /// lane's direction, hence its moment, would be zero). Returns the direction and `|v|`.
 #[inline(always)]
 fn unit_and_norm<T: Real>(v: &Vec3<T>) -> (Vec3<T>, T) {
-    let norm = v.norm();
+    let norm = norm(v);
     let (v, length, norm) = match rescale_overflowed(v, norm) {
         None => (*v, norm, norm),
         Some(r) => (v / r.divisor, r.scaled_norm, r.norm),
@@ -336,13 +337,13 @@ pub fn contact_step_with_geometry<T: Real>(
     };
 
     // 1. The transport frame; a fresh contact (zero previous normal) has no tumbling.
-    let has_old = state.previous_normal.norm_squared().simd_gt(half);
+    let has_old = norm_squared(&state.previous_normal).simd_gt(half);
     let old_normal = select3(has_old, &state.previous_normal, &n);
     let frame = Frame {
         old_normal,
         new_normal: n,
-        spin_angle: (w1 + w2).dot(&n) * half * dt,
-        half_spin_old: (w1 + w2).dot(&old_normal) * half * dt,
+        spin_angle: dot(&(w1 + w2), &n) * half * dt,
+        half_spin_old: dot(&(w1 + w2), &old_normal) * half * dt,
     };
     let rescale_when = |stiffness: T, limit: T| -> RescaleWhen<T> {
         if conv.lammps_rescale_threshold {
@@ -475,13 +476,13 @@ pub fn contact_step_with_geometry<T: Real>(
                 rolling_moment = moment;
                 slipped_r = active;
                 if energy_on {
-                    rolling_energy.slider = -moment.dot(&spin) * dt;
+                    rolling_energy.slider = -dot(&moment, &spin) * dt;
                 }
             }
             RollingLaw::Viscous => {
                 let gamma = input.rolling_damping.unwrap_or(lit(p.damping));
                 let load = rate * (-gamma);
-                let magnitude = load.norm();
+                let magnitude = norm(&load);
                 // Clipped from a rescaled copy where |load|^2 overflowed (see vector_spring).
                 let (load_in_range, length, over) = match rescale_overflowed(&load, magnitude) {
                     None => (load, magnitude, magnitude.simd_gt(limit)),
@@ -492,7 +493,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 rolling_moment = rolling_moment_of(&load, &n, r_r, angle);
                 slipped_r = over;
                 if energy_on {
-                    rolling_energy.dashpot = -load.dot(&rate) * dt;
+                    rolling_energy.dashpot = -dot(&load, &rate) * dt;
                 }
             }
             RollingLaw::Epsd => {
@@ -639,7 +640,7 @@ pub fn contact_step_with_geometry<T: Real>(
             twisting_torque = r.load;
             twisting_energy = r.energy;
             slipped_t = r.slipped;
-            let along = r.spring.dot(&n);
+            let along = dot(&r.spring, &n);
             new_state.twisting_angle = along;
             new_state.twisting_offaxis = r.spring - n * along;
         } else {

@@ -2,7 +2,7 @@
 //! the previous contact frame to the current one. Written once for every [`Real`] type.
 
 use crate::laws::model::Transport;
-use crate::scalar::{cross, lit, select3, tangential, Real, Vec3};
+use crate::scalar::{cross, dot, lit, norm_squared, select3, tangential, Real, Vec3};
 
 /// What a transport needs to know about the step.
 pub struct Frame<T: Real> {
@@ -60,7 +60,7 @@ pub fn transport<T: Real>(
         Transport::Exact => {
             // Minimal rotation a -> b: R u = u + c x u + c x (c x u)/(1 + a.b), c = a x b.
             let c = cross(a, b);
-            let cos = a.dot(b);
+            let cos = dot(a, b);
             let one_plus = T::one() + cos;
             // A normal that flipped in one step (1 + a.b ~ 0) has no minimal rotation; fall
             // back to projection, which is what any scheme can do there.
@@ -74,10 +74,10 @@ pub fn transport<T: Real>(
             tangential(&spun, b)
         }
         Transport::ProjectRescale => {
-            let normal_part = u.dot(b);
+            let normal_part = dot(u, b);
             let projected = u - b * normal_part;
-            let old_len2 = u.norm_squared();
-            let new_len2 = projected.norm_squared();
+            let old_len2 = norm_squared(u);
+            let new_len2 = norm_squared(&projected);
             let has_normal_part = match rescale {
                 RescaleWhen::NormalPart => normal_part.simd_abs().simd_gt(T::zero()),
                 RescaleWhen::Lammps { stiffness, limit } => {

@@ -1,0 +1,41 @@
+#!/bin/sh
+# Checks that the release library's SIMD batch kernels are whole: no call from a kernel
+# (`capi::batch::x86::*`) into the physics, nalgebra, simba or the `core::arch` intrinsics.
+#
+# The x86 kernels get their vector instructions by inlining: the lane types of
+# `src/capi/lanes_x86.rs` call `core::arch` intrinsics from plain functions, and an intrinsic
+# only becomes its instruction once inlined into a `#[target_feature]` kernel. A physics
+# function that the compiler leaves out of line (a closure, a nalgebra method over a lane
+# type) is compiled without those features: every intrinsic in it becomes a function call,
+# and the kernel runs two to three times slower with the same results (measured when
+# nalgebra's `cross` was left out of line: 93 against 45 ns per contact). No test sees that,
+# so this check does.
+#
+#   scripts/check_kernels.sh        (builds the release library first; needs objdump)
+set -eu
+cd "$(dirname "$0")/.."
+cargo build --release --lib --quiet
+lib=target/release/librollslide.a
+# In the archive's objects a call's target is its relocation (-r), on the line after the call.
+out=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
+  /^[0-9a-f]+ <.*>:$/ { inside = ($0 ~ /capi::batch::x86::/); name = $0; call = 0; next }
+  inside && /\tcall/ { call = 1; next }
+  inside && call && /R_X86_64_/ {
+    call = 0
+    # Demangled or (for section-relative targets) mangled names.
+    if ($0 ~ /core_arch|nalgebra|simba|lanes_x86|rollslide::(scalar|laws|geometry|loads|decompose)|9rollslide(6scalar|4laws|8geometry|5loads|9decompose)/)
+      print name " calls " $NF
+    next
+  }
+  { call = 0 }' | sort | uniq -c)
+kernels=$(objdump -t -C "$lib" | grep -c 'capi::batch::x86::' || true)
+if [ "$kernels" -eq 0 ]; then
+  echo "check_kernels: no x86 kernel found in $lib" >&2
+  exit 1
+fi
+if [ -n "$out" ]; then
+  echo "check_kernels: physics left out of line in the SIMD kernels (see the script's header):" >&2
+  echo "$out" | head -20 >&2
+  exit 1
+fi
+echo "check_kernels: $kernels x86 kernel symbols, none calls out of line into the physics or the intrinsics"
