@@ -458,7 +458,7 @@ static inline void lammps_spring(double xi[3], const double n[3], const double r
             double sc = limit / mag;
             for (int a = 0; a < 3; a++) {
                 f[a] *= sc;
-                if (k > 0) xi[a] = -(f[a] + gamma * rate[a]) / k;
+                if (k > 0) xi[a] = (-1.0 / k) * (f[a] + gamma * rate[a]); /* as LAMMPS */
             }
         }
     }
@@ -473,7 +473,7 @@ static inline double lammps_twist(double *theta, double wtw, double fn, uint32_t
     *slipped = fabs(mt) > lim;
     if (*slipped) {
         mt = wtw > 0 ? -lim : (wtw < 0 ? lim : 0.0);
-        th = -(mt + GTW * wtw) / KTW;
+        th = (1.0 / KTW) * -(mt + GTW * wtw); /* as LAMMPS */
     }
     *theta = th;
     return mt;

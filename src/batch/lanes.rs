@@ -1,10 +1,10 @@
 //! Lane types the batch kernels are instantiated for: plain `f64` and `f32` (one contact per
-//! call of the generic physics) and simba's array-backed `AutoSimd` packs (several contacts per
-//! call, one per lane). The `AutoSimd` packs are plain arrays that LLVM vectorises with
-//! whatever target features the enclosing function enables (SSE2 by default, AVX2 or AVX-512
-//! inside the `#[target_feature]` wrappers of `capi::batch`). simba's `Wide*` packs were not
-//! used: they pick their instructions from compile-time target features, so a default build
-//! runs them on 128-bit SSE2 even on an AVX-512 machine.
+//! call of the generic physics) and, for any target, simba's array-backed `AutoSimd` packs
+//! (several contacts per call, one per lane), which LLVM vectorises as it sees fit. The x86-64
+//! kernels of the C ABI do not use the `AutoSimd` packs: LLVM re-vectorised their arrays into
+//! mixed xmm/ymm/zmm pieces with many spills and kept their masks as arrays of `bool` (the
+//! AVX-512 kernel ran the full LAMMPS set at 55 ns per contact with them, 45 with the
+//! register-backed types of `capi::lanes_x86`, whose every operation is one instruction).
 
 use crate::scalar::Real;
 use simba::simd::{AutoF32x8, AutoF64x4, AutoF64x8, AutoSimd};

@@ -9,8 +9,10 @@
 //! `torque[i][3]`), **accumulated** (`+=`), never cleared. Per-contact arrays (`normal_force`,
 //! `states`) follow contact order.
 //!
-//! The SIMD kernels are the generic physics instantiated for simba's array-backed `AutoSimd`
-//! packs inside `#[target_feature]` functions, chosen at run time from the CPU's features.
+//! The SIMD kernels are the generic physics instantiated for the register-backed lane types of
+//! `lanes_x86` (one zmm or ymm register per value) inside `#[target_feature]` functions, chosen
+//! at run time from the CPU's features; `scripts/check_kernels.sh` checks that the physics is
+//! inlined into them whole.
 #![allow(non_camel_case_types)]
 
 use super::contact::rsl_contact_state;
@@ -361,10 +363,9 @@ mod x86 {
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        // Eight lanes in two ymm registers. With the block-staged kernel (`batch::block`),
-        // measured in cache on the full LAMMPS set: 34 ns per contact against 36-41 with four
-        // lanes (edited builds, same bench driver). Before the staging, four lanes were the
-        // faster (41 against 49).
+        // Four lanes in one ymm register. Eight lanes in two (`F64x4x2`) measured the same
+        // (workload A, 1.2M contacts, full LAMMPS set: 55.3 against 55.2 ns per contact) with
+        // twice the register pressure.
         // SAFETY: the caller guarantees AVX2.
         step_kernel::<F64x4, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
     }
