@@ -1,8 +1,12 @@
 #!/usr/bin/env python3
 """Independent re-implementation of the LAMMPS 2021 pair granular tangential,
 rolling (sds) and twisting (sds / marshall) laws as described in
-shared/spec/peers.md, replayed on the positions/velocities of
-lammps_reference.csv; prints the worst relative mismatch per case.
+shared/spec/peers.md, with the normal models hooke, hertz/material, jkr and dmt,
+replayed on the positions/velocities of lammps_reference.csv; prints the worst
+relative mismatch per case. For jkr and dmt it also compares its own normal force
+and friction-limit force with the CSV's `fn_signed` and `fn` (written by
+gen_lammps.py from LAMMPS' formulas), and counts the rows where each law is at its
+limit, and those of them under tension.
 
 Options (to test the alternative readings of the code):
   --frame gt|lt|never   history re-projection when |xi.n| k >(gt, peers.md) / <(lt) 1e-10 mu Fncrit
@@ -10,6 +14,11 @@ Options (to test the alternative readings of the code):
   --twist-sign-trial    twisting clip keeps the sign of the trial moment (default: -sign(Omega))
   --fncrit-elastic      friction limits use the elastic normal force only (default: |F_n| with damping)
   --setup-no-clip-store the twisting clip at step 0 does not write the history (default: it does)
+  --fncrit-total        jkr/dmt limits use |F_n| with damping, as the other normal models
+  --dmt-pulloff         dmt limits use |F_ne + 2 F_pulloff|, F_pulloff = 4 pi cohesion Reff
+                        (the source's formula; default |F_ne|, what this build computes)
+  --jkr-overlap-contact a jkr contact ends when the overlap reaches 0 (default: LAMMPS keeps
+                        a touching pair until the overlap falls below its pull-off overlap)
 """
 import csv
 import json
@@ -26,6 +35,9 @@ SETUP_UPDATE = "--setup-update" in sys.argv
 SETUP_NO_CLIP_STORE = "--setup-no-clip-store" in sys.argv
 TWIST_SIGN_TRIAL = "--twist-sign-trial" in sys.argv
 FNCRIT_ELASTIC = "--fncrit-elastic" in sys.argv
+FNCRIT_TOTAL = "--fncrit-total" in sys.argv
+DMT_PULLOFF = "--dmt-pulloff" in sys.argv
+JKR_OVERLAP_CONTACT = "--jkr-overlap-contact" in sys.argv
 EPS = 1e-10
 
 
@@ -48,6 +60,59 @@ def reproject(h, n, k, crit):
     h = sub(h, mul(rs, n))
     p = norm(h)
     return mul(mag / p if p > 0 else 0.0, h)
+
+
+def estar(law):
+    """Effective modulus of one material, E* = E / (2 (1 - nu^2))."""
+    return law["E"] / (2 * (1 - law["poisson"] ** 2))
+
+
+def jkr_overlap(a, R, Es, w):
+    """JKR overlap at contact radius a, work of adhesion w: a^2/R - sqrt(2 pi w a / E*)."""
+    return a * a / R - math.sqrt(2 * math.pi * w * a / Es)
+
+
+def jkr_contact_radius(delta, R, Es, w):
+    """The contact radius on the stable branch (a above the minimum of jkr_overlap), by
+    bisection to the last bit."""
+    lo = (math.pi * w * R * R / (8 * Es)) ** (1.0 / 3.0)   # d overlap / da = 0 there
+    hi = 2 * lo
+    while jkr_overlap(hi, R, Es, w) < delta:
+        hi *= 2
+    while True:
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            return hi
+        if jkr_overlap(mid, R, Es, w) < delta:
+            lo = mid
+        else:
+            hi = mid
+
+
+def cohesive_normal(law, delta, R):
+    """(elastic normal force, contact radius, Fncrit from the elastic force) of jkr / dmt.
+    LAMMPS' `cohesion` is half the work of adhesion w: its JKR force is
+    4 E* a^3/(3R) - sqrt(8 pi w E* a^3) with w = 2 cohesion, its pull-off force
+    3 pi cohesion R; DMT: 4/3 E* sqrt(R) delta^1.5 - 4 pi cohesion R."""
+    Es = estar(law)
+    coh = law["cohesion"]
+    if law["normal"] == "jkr":
+        a = jkr_contact_radius(delta, R, Es, 2 * coh)
+        Fne = 4 * Es * a ** 3 / (3 * R) - math.sqrt(16 * math.pi * coh * Es * a ** 3)
+        crit = abs(Fne + 6 * math.pi * coh * R)
+    else:
+        a = math.sqrt(delta * R)
+        Fne = 4.0 / 3.0 * Es * delta * a - 4 * math.pi * coh * R
+        crit = abs(Fne + 8 * math.pi * coh * R) if DMT_PULLOFF else abs(Fne)
+    return Fne, a, crit
+
+
+def jkr_pulloff_overlap(law, R):
+    """Overlap at which a touching JKR pair separates in LAMMPS: jkr_overlap at the
+    contact radius a0, a0^3 = 9 pi w R^2 / (8 E*)."""
+    Es, w = estar(law), 2 * law["cohesion"]
+    a0 = (9 * math.pi * w * R * R / (8 * Es)) ** (1.0 / 3.0)
+    return jkr_overlap(a0, R, Es, w)
 
 
 def spring(h, v, k, g, crit, update, n, dt):
@@ -73,6 +138,12 @@ def run_case(rows, P):
     ht = 0.0
     worst = 0.0
     worst_at = None
+    cohesive = law["normal"] in ("jkr", "dmt")
+    touching = False
+    fn_err = 0.0          # own F_n and Fncrit against the CSV's, relative to the case's scale
+    case_scale = max(abs(float(r[k])) for r in rows for k in ("fn", "f1x", "f1y", "f1z"))
+    slips = [0, 0, 0]     # rows at the sliding, rolling, twisting limit
+    tensile_slips = [0, 0, 0]
     for r in rows:
         step = int(r["step"])
         g = lambda *k: [float(r[x]) for x in k]
@@ -83,26 +154,46 @@ def run_case(rows, P):
         mi, mj = float(r["m1"]), float(r["m2"])
         d = sub(x1, x2)
         rr = norm(d)
-        if rr >= Ri + Rj:
-            hs, hr, ht = [0.0] * 3, [0.0] * 3, 0.0
-            continue
-        n = mul(1.0 / rr, d)
         delta = Ri + Rj - rr
         Reff = Ri * Rj / (Ri + Rj)
+        if law["normal"] == "jkr" and touching and not JKR_OVERLAP_CONTACT:
+            touching = delta > jkr_pulloff_overlap(law, Reff)
+        else:
+            touching = rr < Ri + Rj
+        if not touching:
+            hs, hr, ht = [0.0] * 3, [0.0] * 3, 0.0
+            if cohesive:   # LAMMPS must apply nothing
+                loads = g("f1x", "f1y", "f1z", "t1x", "t1y", "t1z", "f2x", "f2y", "f2z", "t2x", "t2y", "t2z")
+                err = max(abs(x) for x in loads) / case_scale
+                if err > worst:
+                    worst, worst_at = err, step
+            continue
+        n = mul(1.0 / rr, d)
         vr = sub(v1, v2)
         vnn = dot(vr, n)
         vt = sub(vr, mul(vnn, n))
         meff = mi * mj / (mi + mj)
-        a = math.sqrt(delta * Reff)
         if law["normal"] == "hooke":
+            a = math.sqrt(delta * Reff)
             Fne = law["kn"] * delta
+        elif cohesive:
+            Fne, a, crit = cohesive_normal(law, delta, Reff)
         else:
+            a = math.sqrt(delta * Reff)
             Estar = law["E"] / (2 * (1 - law["poisson"] ** 2))
             Fne = 4.0 / 3.0 * Estar * delta * a
         damp = 1.0 if law["damping"] == "velocity" else a * meff
         pref = law["eta_n"] * damp
         Fn = Fne - pref * vnn
-        Fncrit = abs(Fne) if FNCRIT_ELASTIC else abs(Fn)
+        if FNCRIT_ELASTIC:
+            Fncrit = abs(Fne)
+        elif cohesive and not FNCRIT_TOTAL:
+            Fncrit = crit
+        else:
+            Fncrit = abs(Fn)
+        if cohesive:
+            fn_err = max(fn_err, abs(Fn - float(r["fn_signed"])) / case_scale,
+                         abs(Fncrit - float(r["fn"])) / case_scale)
         wr = add(mul(Ri, w1), mul(Rj, w2))
         vtr = add(vt, cross(n, wr))
         kt = law["kt"]
@@ -124,6 +215,12 @@ def run_case(rows, P):
         if TWIST_SIGN_TRIAL:
             sgn = -((M > 0) - (M < 0))
         Mc = mutw * Fncrit
+        at_limit = [norm(fs) >= (1 - 1e-12) * law["mu_s"] * Fncrit,
+                    norm(fr) >= (1 - 1e-12) * law["mu_r"] * Fncrit,
+                    abs(M) > Mc]
+        for k in range(3):
+            slips[k] += at_limit[k]
+            tensile_slips[k] += at_limit[k] and Fn < 0
         if abs(M) > Mc:
             if update or not SETUP_NO_CLIP_STORE:
                 ht = (Mc * sgn - gtw * om) / ktw
@@ -138,7 +235,11 @@ def run_case(rows, P):
         err = max(abs(p - q) for p, q in zip(got, want)) / scale
         if err > worst:
             worst, worst_at = err, step
-    return worst, worst_at
+    extra = ""
+    if cohesive:
+        extra = ("; own F_n, Fncrit vs CSV %.1e; at the limit (sliding, rolling, twisting) %s rows, "
+                 "%s of them tensile" % (fn_err, slips, tensile_slips))
+    return worst, worst_at, fn_err, extra
 
 
 def main():
@@ -150,10 +251,11 @@ def main():
     bad = 0
     for case, rows in by.items():
         P = json.load(open(os.path.join(HERE, "params", case + ".json")))
-        w, at = run_case(rows, P)
-        flag = "OK " if w < 1e-9 else "BAD"
-        bad += w >= 1e-9
-        print("%s %-28s worst rel err %.3e at step %s" % (flag, case, w, at))
+        w, at, fn_err, extra = run_case(rows, P)
+        ok = w < 1e-9 and fn_err < 1e-13
+        flag = "OK " if ok else "BAD"
+        bad += not ok
+        print("%s %-28s worst rel err %.3e at step %s%s" % (flag, case, w, at, extra))
     return bad
 
 

@@ -72,6 +72,26 @@ SETS = {
         twist="marshall",
         pair_coeff="hertz/material 1000000.0 1000.0 0.3 tangential linear_history 8000.0 0.5 0.5 "
                    "rolling sds 4000.0 40.0 0.1 twisting marshall"),
+    # cohesive normal models: the friction limits use LAMMPS' Fncrit, not |Fntot| (see
+    # lammps_normal below and README.md)
+    "jkr": dict(
+        normal="jkr", E=1.0e6, eta_n=50.0, poisson=0.3, cohesion=50.0, damping="velocity",
+        kt=8000.0, xgammat=0.5, mu_s=0.5,
+        kr=4000.0, gr=40.0, mu_r=0.1,
+        twist="sds", ktw=200.0, gtw=2.0, mu_tw=0.05,
+        fncrit="|Fne + 2 F_pulloff|, F_pulloff = 3 pi cohesion Reff (Fne: JKR elastic force, no damping)",
+        pair_coeff="jkr 1000000.0 50.0 0.3 50.0 damping velocity tangential linear_history 8000.0 0.5 0.5 "
+                   "rolling sds 4000.0 40.0 0.1 twisting sds 200.0 2.0 0.05"),
+    "dmt": dict(
+        normal="dmt", E=1.0e6, eta_n=1000.0, poisson=0.3, cohesion=50.0, damping="viscoelastic (default)",
+        kt=8000.0, xgammat=0.5, mu_s=0.5,
+        kr=4000.0, gr=40.0, mu_r=0.1,
+        twist="sds", ktw=200.0, gtw=2.0, mu_tw=0.05,
+        fncrit="|Fne| (Fne = (4/3) E* delta a - 4 pi cohesion Reff, no damping): the source's "
+               "F_pulloff = 4 pi coh Reff reads a variable only the JKR branches assign; this "
+               "build behaves as coh = 0 there",
+        pair_coeff="dmt 1000000.0 1000.0 0.3 50.0 tangential linear_history 8000.0 0.5 0.5 "
+                   "rolling sds 4000.0 40.0 0.1 twisting sds 200.0 2.0 0.05"),
 }
 
 def fn_estimate(P, R1, R2, delta):
@@ -87,6 +107,82 @@ def twist_params(P, R1, R2, delta):
     reff = R1 * R2 / (R1 + R2)
     a = math.sqrt(reff * delta)
     return 0.5 * P["kt"] * a * a, 2.0 / 3.0 * a * P["mu_s"]
+
+# ---------------------------------------------------------------- LAMMPS' cohesive normal forces
+# The values LAMMPS 29 Sep 2021 computes in PairGranular::compute() for `jkr` and `dmt`, with
+# its operations in its order (IEEE double; Python evaluates a*b*c left to right as C does), so
+# that Fntot is LAMMPS' bit for bit (asserted against compute pair/local below).
+M_PI = 3.14159265358979323846
+PI27SQ = 266.47931882941264802866    # 27 pi^2
+THREEROOT3 = 5.19615242270663202362  # 3 sqrt(3)
+SIXROOT6 = 14.69693845669906728801   # 6 sqrt(6)
+INVROOT6 = 0.40824829046386307274    # 1/sqrt(6)
+
+def c_max0(x):
+    """C's MAX(0, x) macro: (0 > x ? 0 : x)."""
+    return 0.0 if 0 > x else x
+
+def normal_coeff0(P):
+    """pair_coeff stores (4/3) E* for hertz/material, dmt, jkr; E* = 1/(2 (1 - nu^2)/E)."""
+    nu, E = P["poisson"], P["E"]
+    return (4.0 / 3.0) * (1 / ((1 - nu * nu) / E + (1 - nu * nu) / E))
+
+def jkr_pulloff_distance(P, radsum, Reff):
+    """compute(): a touching JKR pair stays in contact while rsq < dist_pulloff^2."""
+    E = normal_coeff0(P) * 0.75
+    coh = P["cohesion"]
+    a = math.cbrt(9.0 * M_PI * coh * (Reff * Reff) / (4 * E))
+    delta_pulloff = a * a / Reff - 2 * math.sqrt(M_PI * coh * a / E)
+    return radsum - delta_pulloff
+
+def lammps_normal(P, radi, radj, mi, mj, x1, x2, v1, v2):
+    """(Fne, Fntot, Fncrit, a) of compute() for the pair (i, j) = (atom 1, atom 2) in contact."""
+    delx, dely, delz = x1[0] - x2[0], x1[1] - x2[1], x1[2] - x2[2]
+    rsq = delx * delx + dely * dely + delz * delz
+    radsum = radi + radj
+    Reff = radi * radj / radsum
+    r = math.sqrt(rsq)
+    rinv = 1.0 / r
+    nx, ny, nz = delx * rinv, dely * rinv, delz * rinv
+    vnnr = (v1[0] - v2[0]) * nx + (v1[1] - v2[1]) * ny + (v1[2] - v2[2]) * nz
+    meff = mi * mj / (mi + mj)
+    delta = radsum - r
+    dR = delta * Reff
+    coh = P["cohesion"]
+    if P["normal"] == "jkr":
+        E = normal_coeff0(P) * 0.75
+        R2 = Reff * Reff
+        dR2 = dR * dR
+        t0 = coh * coh * R2 * R2 * E
+        t1 = PI27SQ * t0
+        t2 = 8 * dR * dR2 * E * E * E
+        t3 = 4 * dR2 * E
+        sqrt1 = c_max0(t0 * (t1 + 2 * t2))
+        t4 = math.cbrt(t1 + t2 + THREEROOT3 * M_PI * math.sqrt(sqrt1))
+        t5 = t3 / t4 + t4 / E
+        sqrt2 = c_max0(2 * dR + t5)
+        t6 = math.sqrt(sqrt2)
+        sqrt3 = c_max0(4 * dR - t5 + SIXROOT6 * coh * M_PI * R2 / (E * t6))
+        a = INVROOT6 * (t6 + math.sqrt(sqrt3))
+        a2 = a * a
+        knfac = normal_coeff0(P) * a
+        Fne = knfac * a2 / Reff - (2 * M_PI) * a2 * math.sqrt(4 * coh * E / (M_PI * a))
+        Fncrit = abs(Fne + 2 * (3 * M_PI * coh * Reff))
+    else:  # dmt
+        Fne = normal_coeff0(P) * delta
+        a = math.sqrt(dR)
+        Fne *= a
+        Fne -= 4 * M_PI * coh * Reff
+        # |Fne + 2 F_pulloff| with F_pulloff = 4 pi coh Reff, where this build's coh is 0
+        Fncrit = abs(Fne + 2 * (4 * M_PI * 0.0 * Reff))
+    damp = 1 if P["damping"] == "velocity" else a * meff
+    Fdamp = -(P["eta_n"] * damp) * vnnr
+    return Fne, Fne + Fdamp, Fncrit, a
+
+def fncrit_at(P, R1, R2, delta):
+    """LAMMPS' Fncrit at overlap delta and rest (scales the rates of the cohesive cases)."""
+    x2 = mul(R1 + R2 - delta, U)
+    return lammps_normal(P, R1, R2, 1.0, 1.0, [0.0] * 3, x2, [0.0] * 3, [0.0] * 3)[2]
 
 # ---------------------------------------------------------------- motion tables
 class Motion:
@@ -293,6 +389,63 @@ def case_setup_clip(P, R1, R2, delta):
     return m, dict(w1_step0=w1, w2_step0=w2, w1_later=mul(0.1, w1), w2_later=mul(0.1, w2))
 
 
+def case_cohesive_random(P, R1, R2, dmin, dmax, dout, seed, nseg=20, seglen=20):
+    """general motion of a cohesive pair: piecewise-constant random v and omega on 20-step
+    segments whose rates reach the sliding, rolling and twisting limits in ~15 steps (the
+    twisting rate along the current normal); the overlap is steered to a random target in
+    [dmin, dmax] (tensile range, for JKR negative overlap), then the pair is pulled apart
+    beyond the end of contact (overlap dout), pushed back into contact and moved on."""
+    rng = random.Random(seed)
+    fc = 0.5 * (fncrit_at(P, R1, R2, dmin) + fncrit_at(P, R1, R2, dmax))
+    reff = R1 * R2 / (R1 + R2)
+    vt = 0.6 * P["mu_s"] * fc / P["kt"] / (15 * DT)
+    wr = 0.6 * P["mu_r"] * fc / P["kr"] / (15 * DT) / reff
+    om = 0.6 * P["mu_tw"] * fc / P["ktw"] / (15 * DT)
+    m = Motion(R1, R2, dmax)
+    def rv(scale):
+        return [scale * (2 * rng.random() - 1) for _ in range(3)]
+    targets = [dmin + (dmax - dmin) * rng.random() for _ in range(nseg)]
+    targets += [dout, 0.5 * dmax, dmin + (dmax - dmin) * rng.random()]
+    for seg, dtarget in enumerate(targets):
+        x1, x2 = m.rows[-1][0], m.rows[-1][1]
+        d = sub(x2, x1)
+        r = norm(d)
+        u = mul(1.0 / r, d)
+        vn = ((R1 + R2 - r) - dtarget) / (seglen * DT)   # relative normal speed (2 away from 1)
+        v1 = rv(vt)
+        v2 = add(v1, rv(vt))
+        v2 = add(v2, mul(vn - dot(sub(v2, v1), u), u))
+        w1 = rv(wr)
+        w2 = sub(w1, add(rv(wr), mul(om * (2 * rng.random() - 1), u)))
+        if seg == 0:
+            m.set0(v1, v2, w1, w2)
+        m.steps(seglen, v1, v2, w1, w2)
+    return m, dict(seed=seed, nseg=nseg, seglen=seglen, overlap_targets=targets)
+
+
+def case_pull_off(P, R1, R2, delta, dend, npre=60, nsep=240):
+    """sliding, rolling and twisting at constant rates that reach each limit after ~npre/2
+    steps at rest overlap delta; after npre steps atom 2 moves away along U at constant speed
+    (same rates) through the tensile range until the overlap is dend, past the end of contact."""
+    reff = R1 * R2 / (R1 + R2)
+    fc = fncrit_at(P, R1, R2, delta)
+    t_el = 0.5 * npre * DT
+    vrl = P["mu_r"] * fc / P["kr"] / t_el
+    vt = P["mu_s"] * fc / P["kt"] / t_el
+    om = P["mu_tw"] * fc / P["ktw"] / t_el
+    rr = add(mul(vrl / reff, E1), mul(om, U))
+    S = mul(vt, E2)
+    w2 = mul(1.0 / (R1 + R2), sub(S, mul(R1, rr)))
+    w1 = add(w2, rr)
+    z = [0.0] * 3
+    m = Motion(R1, R2, delta)
+    m.set0(z, z, w1, w2)
+    m.steps(npre, z, z, w1, w2)
+    vsep = (delta - dend) / (nsep * DT)
+    m.steps(nsep, z, mul(vsep, U), w1, w2)
+    return m, dict(w1=w1, w2=w2, vsep=vsep, npre=npre, nsep=nsep, overlap_end=dend)
+
+
 def build_cases():
     C = []
     S, M = SETS["sds"], SETS["marshall"]
@@ -309,6 +462,16 @@ def build_cases():
     C.append(("marshall_twist", "marshall", 1.0, 0.5, 0.01) + case_twist(M, 1.0, 0.5, 0.01))
     C.append(("marshall_rigid_rotation", "marshall", 1.0, 0.5, 0.01) + case_rigid(M, 1.0, 0.5, 0.01))
     C.append(("marshall_random", "marshall", 1.0, 0.6, 0.01) + case_random(M, 1.0, 0.6, 0.01, seed=4242))
+    J, D = SETS["jkr"], SETS["dmt"]
+    # JKR: contact ends at overlap delta_pulloff = -0.00172 (R1 = 1, R2 = 0.5), -0.00179
+    # (R1 = 1, R2 = 0.6); the elastic force is tensile below overlap 0.0043 (0.0045)
+    C.append(("jkr_pull_off", "jkr", 1.0, 0.5, 0.01) + case_pull_off(J, 1.0, 0.5, 0.01, -0.003))
+    C.append(("jkr_random", "jkr", 1.0, 0.6, 0.01)
+             + case_cohesive_random(J, 1.0, 0.6, -0.0012, 0.012, -0.004, seed=2718))
+    # DMT: the elastic force is tensile below overlap 0.0063 (0.0065); contact ends at 0
+    C.append(("dmt_pull_off", "dmt", 1.0, 0.5, 0.01) + case_pull_off(D, 1.0, 0.5, 0.01, -0.002))
+    C.append(("dmt_random", "dmt", 1.0, 0.6, 0.01)
+             + case_cohesive_random(D, 1.0, 0.6, 0.0008, 0.012, -0.002, seed=3141))
     return C
 
 # ---------------------------------------------------------------- LAMMPS input
@@ -392,6 +555,64 @@ COLS = (["case", "step"] + ["x1", "y1", "z1", "x2", "y2", "z2",
          "dij_x", "dij_y", "dij_z", "mtw"])
 
 
+def cohesive_columns(P, a, pr, was_touching, forces, case, step):
+    """Columns contact..mtw of a `jkr` or `dmt` row. compute pair/local cannot give them:
+    its single() tests JKR contact with radsum + delta_pulloff (compute() uses radsum -
+    delta_pulloff) and returns zeros below overlap |delta_pulloff|, and it lists a JKR pair
+    within the cutoff after contact ends. So `contact` is compute()'s touch rule, `fn`
+    (Fncrit) and `fn_signed` (Fntot) are compute()'s values from the state the pair saw
+    (lammps_normal), checked against pair/local where single() is valid (bit for bit) and
+    against the dumped per-atom force everywhere; fs, fr, mtw_single are pair/local's where
+    single() is valid, empty where it is not, and `dij` is x1 - x2."""
+    g = lambda b, ks: [float(a[b][k]) for k in ks]
+    x1, x2 = g(0, "xyz"), g(1, "xyz")
+    radi, radj = float(a[0]["radius"]), float(a[1]["radius"])
+    delx, dely, delz = x1[0] - x2[0], x1[1] - x2[1], x1[2] - x2[2]
+    rsq = delx * delx + dely * dely + delz * delz
+    radsum = radi + radj
+    Reff = radi * radj / radsum
+    if P["normal"] == "jkr" and was_touching:
+        dist = jkr_pulloff_distance(P, radsum, Reff)
+        touching = rsq < dist * dist
+    else:
+        touching = rsq < radsum * radsum
+    p = pr[0] if len(pr) == 1 else None
+    dumped = [a[b][k] for b in (0, 1) for k in ("fx", "fy", "fz", "tqx", "tqy", "tqz")]
+    if not touching:
+        assert all(f == 0.0 for f in forces), (case, step, "force without contact")
+        if p is not None:
+            assert all(float(c) == 0.0 for c in p[1:]), (case, step)
+        return ["0", "0"] + dumped + ["0"] * 11 + ["0"]
+    assert any(f != 0.0 for f in forces), (case, step, "contact without force")
+    Fne, Fntot, Fncrit, _ = lammps_normal(P, radi, radj, float(a[0]["mass"]), float(a[1]["mass"]),
+                                          x1, x2, g(0, ("vx", "vy", "vz")), g(1, ("vx", "vy", "vz")))
+    r = math.sqrt(rsq)
+    n = [delx / r, dely / r, delz / r]
+    f1 = forces[0:3]
+    assert abs(dot(f1, n) - Fntot) <= 1e-12 * max(map(abs, f1)), (case, step, dot(f1, n), Fntot)
+    if P["normal"] == "jkr":
+        E = normal_coeff0(P) * 0.75
+        coh = P["cohesion"]
+        a0 = math.cbrt(9.0 * M_PI * coh * (Reff * Reff) / (4 * E))
+        single_dist = radsum + (a0 * a0 / Reff - 2 * math.sqrt(M_PI * coh * a0 / E))
+        single_valid = rsq <= single_dist * single_dist
+    else:
+        single_valid = True
+    assert p is not None, (case, step, "pair/local does not list a touching pair")
+    if single_valid:
+        # pair/local force = sqrt(rsq) * fforce, fforce = Fntot * (1/r)
+        assert float(p[1]) == math.sqrt(rsq) * (Fntot * (1.0 / r)), (case, step, p[1], Fntot)
+        assert [float(c) for c in p[14:17]] == [delx, dely, delz]
+        single_cols = [p[5], p[6], p[7], p[9], p[10], p[11], p[13]]
+    else:
+        assert all(float(c) == 0.0 for c in p[1:]), (case, step)
+        single_cols = [""] * 7
+    # twisting moment on i, as for the other sets
+    mtw = dot(forces[3:6], [delx, dely, delz]) / math.sqrt(delx * delx + dely * dely + delz * delz)
+    return (["1", repr(Fncrit)] + dumped + [repr(Fntot)] + single_cols
+            + [repr(delx), repr(dely), repr(delz), repr(mtw)])
+
+
 def main():
     work = os.path.join(HERE, "work")
     shutil.rmtree(work, ignore_errors=True)
@@ -414,6 +635,8 @@ def main():
         fa = read_dump_frames(os.path.join(work, "atoms_%s.dump" % case))
         fp = read_dump_frames(os.path.join(work, "pair_%s.dump" % case))
         m1 = m2 = None
+        cohesive = P["normal"] in ("jkr", "dmt")
+        touching = False   # compute()'s touch flag of the pair (JKR: kept past overlap 0)
         for step in sorted(fa):
             cols, rows = fa[step]
             assert [r[0] for r in rows] == ["1", "2"]
@@ -425,6 +648,13 @@ def main():
             row += [a[0]["radius"], a[1]["radius"], a[0]["mass"], a[1]["mass"]]
             m1, m2 = a[0]["mass"], a[1]["mass"]
             pc, pr = fp.get(step, ([], []))
+            forces = [float(a[b][k]) for b in (0, 1) for k in ("fx", "fy", "fz", "tqx", "tqy", "tqz")]
+            if cohesive:
+                row += cohesive_columns(P, a, pr, touching, forces, case, step)
+                touching = row[COLS.index("contact")] == "1"
+                assert len(row) == len(COLS)
+                out.append(row)
+                continue
             if len(pr) == 1:
                 p = pr[0]
                 # c_pl: dist force fx fy fz p1..p12

@@ -1,0 +1,2 @@
+from tablemove import make
+Table = make('motion_dmt_random.txt')

@@ -1,0 +1,2 @@
+from tablemove import make
+Table = make('motion_jkr_random.txt')
