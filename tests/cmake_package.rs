@@ -263,6 +263,7 @@ fn cmake_build_ctest_install_examples_and_pkg_config() {
             "decompose_cpp",
             "rolling_pair",
             "rolling_on_wall",
+            "calibration",
             "dem_heap",
         ] {
             let deps = needed(&dir.join(exe));
