@@ -424,8 +424,56 @@ fn main() {
     println!("{md}");
 }
 
-/// A log-log scatter plot: error (floored at 1e-17) against ns/contact, one colour per test,
-/// circles for f64 and squares for f32.
+/// The marker shapes of the plot.
+#[derive(Clone, Copy)]
+enum Shape {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+}
+
+/// One marker, open, in colour `c`, centred at (x, y); `size` is the circle's radius, the
+/// square's half side, the triangle's and the diamond's half height. `dot`: a filled dot in the
+/// middle. The points and the legend keys are both drawn by this function, so the keys show the
+/// shapes the points have.
+fn marker(shape: Shape, x: f64, y: f64, size: f64, c: &str, dot: bool) -> String {
+    let stroke = format!("fill=\"none\" stroke=\"{c}\" stroke-width=\"1.5\"");
+    let mut s = match shape {
+        Shape::Circle => format!("<circle cx=\"{x}\" cy=\"{y}\" r=\"{size}\" {stroke}/>"),
+        Shape::Square => format!(
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" {stroke}/>",
+            x - size,
+            y - size,
+            2.0 * size,
+            2.0 * size
+        ),
+        // Apex up, base below the centre (as the triangles have always been drawn).
+        Shape::Triangle => format!(
+            "<path d=\"M{x} {} l{} {} l{} 0 z\" {stroke}/>",
+            y - size,
+            size,
+            size * 10.0 / 6.0,
+            -2.0 * size
+        ),
+        Shape::Diamond => format!(
+            "<path d=\"M{x} {} l{size} {size} l{} {size} l{} {} z\" {stroke}/>",
+            y - size,
+            -size,
+            -size,
+            -size
+        ),
+    };
+    if dot {
+        s += &format!("<circle cx=\"{x}\" cy=\"{y}\" r=\"1.5\" fill=\"{c}\"/>");
+    }
+    s
+}
+
+/// A log-log scatter plot: error (floored at 1e-17) against ns/contact. Transport tests
+/// (`rolling`, `rigid`): one colour per transport, circles for f64 and squares for f32, the size
+/// for dt (or alpha), a dot inside for `rigid`; decomposition tests: triangles (`yade`) and
+/// diamonds (`cancel`), in black. The legend draws each key with the same marker function.
 fn svg(pts: &[Point]) -> String {
     let (w, h, ml, mb, mt, mr) = (980.0, 600.0, 80.0, 60.0, 40.0, 330.0);
     let xs: Vec<f64> = pts.iter().map(|p| p.ns.log10()).collect();
@@ -478,42 +526,79 @@ fn svg(pts: &[Point]) -> String {
         } else {
             3.5
         };
-        let shape = if p.test == "cancel" {
-            format!("<path d=\"M{x} {} l6 6 l-6 6 l-6 -6 z\" fill=\"none\" stroke=\"#000\" stroke-width=\"1.5\"/>", y - 6.0)
+        let m = if p.test == "cancel" {
+            marker(Shape::Diamond, x, y, 6.0, "#000", false)
         } else if p.test == "yade" {
-            format!("<path d=\"M{} {} l6 10 l-12 0 z\" fill=\"none\" stroke=\"{c}\" stroke-width=\"1.5\"/>", x, y - 6.0)
+            marker(Shape::Triangle, x, y, 6.0, c, false)
         } else if p.label.starts_with("f32") {
-            format!("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"{c}\" stroke-width=\"1.5\"/>", x - dtmark, y - dtmark, 2.0 * dtmark, 2.0 * dtmark)
+            marker(Shape::Square, x, y, dtmark, c, p.test == "rigid")
         } else {
-            format!("<circle cx=\"{x}\" cy=\"{y}\" r=\"{dtmark}\" fill=\"none\" stroke=\"{c}\" stroke-width=\"1.5\"/>")
-        };
-        let fill = if p.test == "rigid" {
-            format!("<circle cx=\"{x}\" cy=\"{y}\" r=\"1.5\" fill=\"{c}\"/>")
-        } else {
-            String::new()
+            marker(Shape::Circle, x, y, dtmark, c, p.test == "rigid")
         };
         s += &format!(
-            "{shape}{fill}<title>{} {}: {:.1} ns, {:.2e}</title>\n",
+            "{m}<title>{} {}: {:.1} ns, {:.2e}</title>\n",
             p.test, p.label, p.ns, p.err
         );
     }
+    // Legend: each key is drawn with the markers of the points it describes.
     let lx = w - mr + 15.0;
-    let legend = [
+    let key = |k: f64| lx + 8.0 + 16.0 * k;
+    let black = "#000000";
+    let mut rows: Vec<(String, &str)> = [
         ("#1b9e77", "transport exact"),
         ("#d95f02", "project_rescale (LAMMPS)"),
         ("#7570b3", "first_order (YADE)"),
         ("#e7298a", "project (LIGGGHTS)"),
         ("#666666", "none"),
-        ("#000000", "triangle: decomposition vs YADE mp150"),
-        ("#000000", "diamond: decomposition, |w|=1e4, |dw|=1e-3"),
-        ("#000000", "circle f64, square f32"),
-        ("#000000", "size: dt 1e-2 > 1e-3 > 1e-4"),
-        ("#000000", "dot inside: rigid rotation test"),
-        ("#000000", "no dot: rolling closed form"),
-    ];
-    for (i, (c, t)) in legend.iter().enumerate() {
-        let y = mt + 20.0 + 20.0 * i as f64;
-        s += &format!("<rect x=\"{lx}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"{c}\"/><text x=\"{}\" y=\"{}\">{t}</text>\n", y - 9.0, lx + 16.0, y);
+    ]
+    .iter()
+    .map(|&(c, t)| {
+        (
+            marker(Shape::Circle, key(0.0), 0.0, 5.0, c, false)
+                + &marker(Shape::Square, key(1.0), 0.0, 5.0, c, false),
+            t,
+        )
+    })
+    .collect();
+    rows.push((
+        marker(Shape::Circle, key(0.0), 0.0, 5.0, black, false),
+        "f64 (transport tests)",
+    ));
+    rows.push((
+        marker(Shape::Square, key(0.0), 0.0, 5.0, black, false),
+        "f32 (transport tests)",
+    ));
+    rows.push((
+        marker(Shape::Circle, key(0.0), 0.0, 7.0, black, false)
+            + &marker(Shape::Circle, key(1.0), 0.0, 5.0, black, false)
+            + &marker(Shape::Circle, key(1.85), 0.0, 3.5, black, false),
+        "dt (alpha) 1e-2, 1e-3, 1e-4",
+    ));
+    rows.push((
+        marker(Shape::Circle, key(0.0), 0.0, 5.0, black, false),
+        "no dot: rolling closed form",
+    ));
+    rows.push((
+        marker(Shape::Circle, key(0.0), 0.0, 5.0, black, true),
+        "dot: rigid rotation test",
+    ));
+    rows.push((
+        marker(Shape::Triangle, key(0.0), 0.0, 6.0, black, false),
+        "decomposition vs YADE mp150",
+    ));
+    rows.push((
+        marker(Shape::Diamond, key(0.0), 0.0, 6.0, black, false),
+        "decomposition, |w|=1e4, |dw|=1e-3",
+    ));
+    for (i, (m, t)) in rows.iter().enumerate() {
+        let y = mt + 20.0 + 22.0 * i as f64;
+        // The keys are drawn at y = 0 and moved to their row.
+        s += &format!(
+            "<g transform=\"translate(0 {})\">{m}</g><text x=\"{}\" y=\"{}\">{t}</text>\n",
+            y - 4.0,
+            lx + 46.0,
+            y
+        );
     }
     s += "</svg>\n";
     s
