@@ -33,8 +33,9 @@ pub const RSL_INPUT_SLIDING_DAMPING: u32 = 2;
 /// presets the flag gives the loads of the stored springs and leaves the state unwritten.
 pub const RSL_INPUT_SETUP: u32 = 4;
 /// Input flag: the limits use `rsl_contact_input.limit_force` (>= 0) instead of the preset's
-/// rule on `normal_force` (LAMMPS' `Fncrit = |F_ne + 2 F_pulloff|` of its JKR and DMT models,
-/// an elastic normal force, the compressive part plus a cohesive offset...).
+/// rule on `normal_force`: e.g. LAMMPS' `Fncrit` (`|F_ne + 2 F_pulloff|` with its JKR model,
+/// `|F_ne|` with DMT in LAMMPS 20220106), an elastic normal force, the compressive part plus a
+/// cohesive offset.
 pub const RSL_INPUT_LIMIT_FORCE: u32 = 8;
 /// Input flag: use `rolling_stiffness` (k_r or k_theta by the model's form) for this contact.
 pub const RSL_INPUT_ROLLING_STIFFNESS: u32 = 16;

@@ -638,4 +638,25 @@ mod tests {
             rsl_model_free(p);
         }
     }
+
+    /// `RSL_TWISTING_MARSHALL` ignores the three SDS values, as the header says: even NaN or
+    /// negative ones are accepted; `RSL_TWISTING_SDS` still checks them.
+    #[test]
+    fn marshall_twisting_ignores_the_sds_values() {
+        let mut p: *mut rsl_model = std::ptr::null_mut();
+        // SAFETY: `p` is a valid out pointer; the live handle it receives is freed at the end.
+        unsafe {
+            assert_eq!(rsl_model_new(RSL_PRESET_OBJECTIVE, &mut p), RSL_OK);
+            let nan = f64::NAN;
+            assert_eq!(
+                rsl_model_set_twisting(p, RSL_TWISTING_MARSHALL, nan, -1.0, nan),
+                RSL_OK
+            );
+            assert_eq!(
+                rsl_model_set_twisting(p, RSL_TWISTING_SDS, nan, 0.1, 0.05),
+                RSL_ERR_INVALID_PARAMETER
+            );
+            rsl_model_free(p);
+        }
+    }
 }

@@ -287,6 +287,10 @@ impl RollingParams {
 impl TwistingParams {
     /// Checks the parameters, naming the first bad one.
     pub fn validate(&self) -> Result<(), Error> {
+        if self.law == TwistingLaw::Marshall {
+            // Marshall derives its coefficients from the sliding law: these are never read.
+            return Ok(());
+        }
         check_param(self.stiffness, "twisting stiffness k_tw", false)?;
         check_param(self.damping, "twisting damping gamma_tw", false)?;
         check_friction(self.friction, "twisting friction mu_tw")

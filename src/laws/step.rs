@@ -63,9 +63,9 @@ pub struct StepInput<T: Real> {
     pub twisting_damping: Option<T>,
     /// Per-contact twisting limit length `mu_tw` (`sds`).
     pub twisting_friction: Option<T>,
-    /// The force (>= 0) the limits use instead of the preset's rule on `normal_force` (LAMMPS'
-    /// `Fncrit = |F_ne + 2 F_pulloff|` of its JKR and DMT models, an elastic normal force, the
-    /// compressive part plus a cohesive offset...).
+    /// The force (>= 0) the limits use instead of the preset's rule on `normal_force`: e.g.
+    /// LAMMPS' `Fncrit` (`|F_ne + 2 F_pulloff|` with its JKR model, `|F_ne|` with DMT in LAMMPS
+    /// 20220106), an elastic normal force, the compressive part plus a cohesive offset.
     pub limit_force: Option<T>,
     /// The setup pass LAMMPS and LIGGGHTS make at the start of every run: no increments (LIGGGHTS:
     /// one rolling increment), and the state is not written (LAMMPS: its clip writes it). YADE
