@@ -88,8 +88,9 @@
 #define RSL_INPUT_SETUP 4
 
 // Input flag: the limits use `rsl_contact_input.limit_force` (>= 0) instead of the preset's
-// rule on `normal_force` (LAMMPS' `Fncrit = |F_ne + 2 F_pulloff|` of its JKR and DMT models,
-// an elastic normal force, the compressive part plus a cohesive offset...).
+// rule on `normal_force`: e.g. LAMMPS' `Fncrit` (`|F_ne + 2 F_pulloff|` with its JKR model,
+// `|F_ne|` with DMT in LAMMPS 20220106), an elastic normal force, the compressive part plus a
+// cohesive offset.
 #define RSL_INPUT_LIMIT_FORCE 8
 
 // Input flag: use `rolling_stiffness` (k_r or k_theta by the model's form) for this contact.
@@ -651,7 +652,7 @@ extern "C" {
 
 // Steps many sphere-sphere contacts (particle-major). Contact `c` joins particles
 // `pairs[2c]` (body 1) and `pairs[2c+1]` (body 2); its normal force is `normal_force[c]`
-// (>= 0) and its history `states[c]`. The loads are **added** to the particle arrays:
+// (signed: compressive positive, tensile negative) and its history `states[c]`. The loads are **added** to the particle arrays:
 // `force[i] += F1`, `force[j] -= F1`, `torque[i] += M1`, `torque[j] += M2` (in contact order,
 // so the sums do not depend on the SIMD level). `normal_stiffness` (per contact, k_n > 0) is
 // read only when the model needs it (EPSD-derived rolling stiffness, LIGGGHTS' cdt) and may
@@ -841,7 +842,11 @@ int32_t rsl_contact_step_wall_accumulate(const struct rsl_model *model,
 // Critical time step of velocity Verlet for a rotational spring-dashpot:
 // `dt_c = (2/w0)(sqrt(1 + z^2) - z)`, `w0 = sqrt(k_theta (1/I1 + 1/I2))`, with `z` the
 // `damping_ratio` (0: undamped). `inertia2` may be +INFINITY for a wall. Writes `*out` on
-// success.
+// success. `z` is relative to the critical damping of these two inertias,
+// `2 sqrt(k_theta I1 I2/(I1 + I2))`; the `eta_r` of `RSL_DAMPING_RATIO` is relative to the
+// larger rolling inertia `I_r` (which includes `m R^2`), so passing `eta_r` as `z`
+// understates the damping (equal solid spheres: `z = eta_r sqrt(3.5)`) and gives a less
+// conservative step.
 //
 // Preconditions (the behaviour is undefined if they do not hold):
 // `out` must be NULL or writable.
