@@ -324,6 +324,83 @@ fn particle_major_accumulates_per_contact_loads() {
     }
 }
 
+/// Contacts in neighbour-list order (sorted by body 1, runs of the same body 1, bodies 2 that
+/// are body 1 of later runs): the particle-major accumulators end bit for bit where the
+/// contact-by-contact additions, `force[i] += F; force[j] -= F; torque[i] += M1;
+/// torque[j] += M2` in contact order from non-zero start values, put them (double precision,
+/// every level). The kernels keep body 1's sums in registers along a run: this is what they
+/// must not change.
+#[test]
+fn particle_major_sums_equal_contact_order_additions_bitwise() {
+    let dt = 1e-4;
+    let (model, _) = models()[0];
+    let mut sc = scenario(40, 400, 23);
+    // Sort by body 1 (stable: bodies 2 keep their random order within a run).
+    let mut order: Vec<usize> = (0..sc.pairs.len()).collect();
+    order.sort_by_key(|&c| sc.pairs[c][0]);
+    sc.pairs = order.iter().map(|&c| sc.pairs[c]).collect();
+    sc.normal_force = order.iter().map(|&c| sc.normal_force[c]).collect();
+    sc.states = order.iter().map(|&c| sc.states[c]).collect();
+    let (ref_loads, _) = reference(&model, &sc, dt);
+    let np = sc.particles.len();
+    let start = |p: usize| rsl_vec3 {
+        x: 1.0 + p as f64 / 7.0,
+        y: -2.0 / (p as f64 + 3.0),
+        z: 0.5 * p as f64,
+    };
+    let mut f_ref: Vec<rsl_vec3> = (0..np).map(start).collect();
+    let mut t_ref: Vec<rsl_vec3> = (0..np).map(|p| start(np - 1 - p)).collect();
+    let add = |a: &mut rsl_vec3, b: rollslide::scalar::Vec3<f64>| {
+        a.x += b.x;
+        a.y += b.y;
+        a.z += b.z;
+    };
+    let mut skipped = 0;
+    for (c, [i, j]) in sc.pairs.iter().enumerate() {
+        let Some(l) = ref_loads[c] else {
+            skipped += 1;
+            continue;
+        };
+        add(&mut f_ref[*i as usize], l[0]);
+        add(&mut f_ref[*j as usize], -l[0]);
+        add(&mut t_ref[*i as usize], l[1]);
+        add(&mut t_ref[*j as usize], l[2]);
+    }
+    let runs = sc.pairs.windows(2).filter(|w| w[0][0] == w[1][0]).count();
+    assert!(
+        runs > 300,
+        "the scene must have long runs of the same body 1"
+    );
+    let later_body1 = sc
+        .pairs
+        .iter()
+        .enumerate()
+        .filter(|(c, [_, j])| sc.pairs[c + 1..].iter().any(|[i, _]| i == j))
+        .count();
+    assert!(later_body1 > 100, "bodies 2 must come back as bodies 1");
+    let bits = |v: &rsl_vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+    for config in configs().into_iter().filter(|c| !c.f32) {
+        let mut states = sc.states.clone();
+        let mut force: Vec<rsl_vec3> = (0..np).map(start).collect();
+        let mut torque: Vec<rsl_vec3> = (0..np).map(|p| start(np - 1 - p)).collect();
+        let mut access = ParticleSteps {
+            particles: &sc.particles,
+            pairs: &sc.pairs,
+            normal_force: &sc.normal_force,
+            normal_stiffness: None,
+            states: &mut states,
+            force: &mut force,
+            torque: &mut torque,
+        };
+        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        assert_eq!(report.processed + skipped, sc.pairs.len());
+        for p in 0..np {
+            assert_eq!(bits(&force[p]), bits(&f_ref[p]), "{config:?} force {p}");
+            assert_eq!(bits(&torque[p]), bits(&t_ref[p]), "{config:?} torque {p}");
+        }
+    }
+}
+
 /// Many steps of an evolving scene: scalar and SIMD kernels keep identical histories (double),
 /// and the single-precision histories stay within 1e-4 relative of the double ones.
 #[test]

@@ -747,19 +747,16 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
                 let s = state_from_words(|q| b.state[q][i]);
                 access.state(c).store(&s, b.slip[i]);
             }
-            let l = &b.loads;
-            access.emit(
-                c,
-                &PairLoads {
-                    force1: [l[0][i], l[1][i], l[2][i]],
-                    torque1: [l[3][i], l[4][i], l[5][i]],
-                    torque2: [l[6][i], l[7][i], l[8][i]],
-                },
-            );
             report.processed += 1;
         }
         g += GROUP;
     }
+    let l = &b.loads;
+    access.emit_run(c0, ok, |i| PairLoads {
+        force1: [l[0][i], l[1][i], l[2][i]],
+        torque1: [l[3][i], l[4][i], l[5][i]],
+        torque2: [l[6][i], l[7][i], l[8][i]],
+    });
 }
 
 /// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:

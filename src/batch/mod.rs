@@ -85,6 +85,10 @@ pub trait StateSlot {
 pub trait AddSlot {
     /// `self += v`.
     fn add(&mut self, v: [f64; 3]);
+    /// The value.
+    fn get(&self) -> [f64; 3];
+    /// Overwrites the value.
+    fn set(&mut self, v: [f64; 3]);
     /// Loads the slot (see [`Gather::touch`]).
     fn touch(&self);
 }
@@ -95,6 +99,14 @@ impl AddSlot for [f64; 3] {
         self[0] += v[0];
         self[1] += v[1];
         self[2] += v[2];
+    }
+    #[inline(always)]
+    fn get(&self) -> [f64; 3] {
+        *self
+    }
+    #[inline(always)]
+    fn set(&mut self, v: [f64; 3]) {
+        *self = v;
     }
     #[inline(always)]
     fn touch(&self) {
@@ -223,6 +235,17 @@ pub trait StepAccess: Gather {
     fn state_group(&mut self, c: usize) -> &mut [Self::State; block::GROUP];
     /// Delivers the loads of a successful step of contact `c`.
     fn emit(&mut self, c: usize, loads: &PairLoads);
+    /// Delivers the loads of contacts `c0 + k` for each bit `k` of `ok`, in order: the same
+    /// as [`StepAccess::emit`] for each (the default), bit for bit.
+    #[inline(always)]
+    fn emit_run(&mut self, c0: usize, ok: u64, loads: impl Fn(usize) -> PairLoads) {
+        let mut bits = ok;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            self.emit(c0 + k, &loads(k));
+            bits &= bits - 1;
+        }
+    }
 }
 
 /// What the decomposition kernels read and write.
@@ -371,6 +394,51 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot> StepAccess for ParticleSteps<'_, P
         self.force[j].add([-l.force1[0], -l.force1[1], -l.force1[2]]);
         self.torque[i].add(l.torque1);
         self.torque[j].add(l.torque2);
+    }
+    /// As [`StepAccess::emit`] contact by contact, but body 1's force and torque stay in
+    /// registers while consecutive contacts share it (neighbour-list order): loaded once, the
+    /// same additions in the same order, stored when body 1 changes. A body 2 equal to the
+    /// held body 1 adds to the held sums, so every accumulator sees exactly the sequence of
+    /// additions of the contact-by-contact order.
+    #[inline(always)]
+    fn emit_run(&mut self, c0: usize, ok: u64, loads: impl Fn(usize) -> PairLoads) {
+        let mut held = usize::MAX;
+        let (mut force, mut torque) = ([0.0; 3], [0.0; 3]);
+        let mut bits = ok;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let l = loads(k);
+            let [i, j] = self.pairs[c0 + k];
+            let (i, j) = (i as usize, j as usize);
+            if i != held {
+                if held != usize::MAX {
+                    self.force[held].set(force);
+                    self.torque[held].set(torque);
+                }
+                held = i;
+                force = self.force[i].get();
+                torque = self.torque[i].get();
+            }
+            let reaction = [-l.force1[0], -l.force1[1], -l.force1[2]];
+            for q in 0..3 {
+                force[q] += l.force1[q];
+                torque[q] += l.torque1[q];
+            }
+            if j == held {
+                for q in 0..3 {
+                    force[q] += reaction[q];
+                    torque[q] += l.torque2[q];
+                }
+            } else {
+                self.force[j].add(reaction);
+                self.torque[j].add(l.torque2);
+            }
+        }
+        if held != usize::MAX {
+            self.force[held].set(force);
+            self.torque[held].set(torque);
+        }
     }
 }
 

@@ -189,6 +189,14 @@ impl AddSlot for rsl_vec3 {
         self.z += v[2];
     }
     #[inline(always)]
+    fn get(&self) -> [f64; 3] {
+        [self.x, self.y, self.z]
+    }
+    #[inline(always)]
+    fn set(&mut self, v: [f64; 3]) {
+        *self = vec(v);
+    }
+    #[inline(always)]
     fn touch(&self) {
         // 24 bytes: may straddle two cache lines.
         prefetch(&self.x);
