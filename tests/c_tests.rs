@@ -8,51 +8,8 @@ use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// System libraries a Rust static library needs on Linux (`rustc --print native-static-libs`).
-const NATIVE_LIBS: &[&str] = &[
-    "-lgcc_s",
-    "-lutil",
-    "-lrt",
-    "-lpthread",
-    "-lm",
-    "-ldl",
-    "-lc",
-];
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The directory of this test binary (target/<profile>/deps), where cargo put the library.
-fn deps_dir() -> PathBuf {
-    std::env::current_exe()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-/// The freshest `librollslide.a` of this profile.
-fn static_library() -> PathBuf {
-    let deps = deps_dir();
-    let candidates = [deps.join("librollslide.a"), deps.join("../librollslide.a")];
-    candidates
-        .into_iter()
-        .filter(|p| p.exists())
-        .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok())
-        .expect("librollslide.a not found next to the test binary; run through `cargo test`")
-}
-
-fn compiler(cpp: bool) -> cc::Tool {
-    cc::Build::new()
-        .cpp(cpp)
-        .target(env!("RSL_BUILD_TARGET"))
-        .host(env!("RSL_BUILD_HOST"))
-        .opt_level(1)
-        .cargo_metadata(false)
-        .warnings(false)
-        .get_compiler()
-}
+mod common;
+use common::linking::{compiler, deps_dir, native_libs, root, static_library};
 
 fn run(mut cmd: Command, what: &str) -> Result<String, String> {
     let out = cmd
@@ -81,7 +38,7 @@ fn build_c_program(sources: &[PathBuf], exe: &Path) -> Result<(), String> {
         .arg(root().join("c_tests"))
         .args(sources)
         .arg(static_library())
-        .args(NATIVE_LIBS)
+        .args(native_libs())
         .arg("-o")
         .arg(exe);
     run(cmd, &format!("compiling {}", exe.display())).map(|_| ())
@@ -173,7 +130,7 @@ fn main() {
             .arg(root().join("include"))
             .arg(&src)
             .arg(static_library())
-            .args(NATIVE_LIBS)
+            .args(native_libs())
             .arg("-o")
             .arg(&out);
         run(cmd, "compiling the header as C++")?;
@@ -209,7 +166,7 @@ fn main() {
                     .arg(root().join("include"))
                     .arg(root().join("c_tests/test_wrapper.cpp"))
                     .arg(static_library())
-                    .args(NATIVE_LIBS)
+                    .args(native_libs())
                     .arg("-o")
                     .arg(&exe);
                 run(cmd, &format!("compiling rollslide.hpp's test ({label})"))?;

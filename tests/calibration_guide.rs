@@ -5,9 +5,11 @@
 //! fails), and fails if the guide's output block is not exactly what the program printed, or if
 //! the prose of the guide's worked examples quotes a number the program did not print.
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
+
+mod common;
+use common::linking::{compiler, deps_dir, native_libs, root, static_library};
 
 /// The line before the guide's ```text block that holds the program's output.
 const MARKER: &str =
@@ -15,39 +17,6 @@ const MARKER: &str =
 
 /// The section of the guide whose prose may quote only numbers the program printed.
 const SECTION: &str = "## Worked examples";
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The directory of this test binary (target/<profile>/deps), where cargo put the library.
-fn deps_dir() -> PathBuf {
-    std::env::current_exe()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-/// The freshest `librollslide.a` of this profile.
-fn static_library() -> PathBuf {
-    let deps = deps_dir();
-    let candidates = [deps.join("librollslide.a"), deps.join("../librollslide.a")];
-    candidates
-        .into_iter()
-        .filter(|p| p.exists())
-        .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok())
-        .expect("librollslide.a not found next to the test binary; run through `cargo test`")
-}
-
-/// The system libraries a Rust static library needs (the list the CMake package pins).
-fn native_libs() -> Vec<String> {
-    std::fs::read_to_string(root().join("cmake/native-static-libs.txt"))
-        .unwrap()
-        .split_whitespace()
-        .map(str::to_string)
-        .collect()
-}
 
 fn run(mut cmd: Command, what: &str) -> Result<String, String> {
     let out = cmd
@@ -72,14 +41,7 @@ fn program_output() -> &'static Result<String, String> {
         let work = deps_dir().join("../calibration_guide_build");
         std::fs::create_dir_all(&work).unwrap();
         let exe = work.join("calibration");
-        let mut cmd = cc::Build::new()
-            .target(env!("RSL_BUILD_TARGET"))
-            .host(env!("RSL_BUILD_HOST"))
-            .opt_level(1)
-            .cargo_metadata(false)
-            .warnings(false)
-            .get_compiler()
-            .to_command();
+        let mut cmd = compiler(false).to_command();
         cmd.args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
             .arg("-I")
             .arg(root().join("include"))

@@ -5,54 +5,10 @@
 //! the per-thread accumulators within the rounding bound) and exits non-zero on any mismatch;
 //! this test fails when it does. Its timings are printed (`-- --nocapture`), never checked.
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// System libraries a Rust static library needs on Linux (`rustc --print native-static-libs`;
-/// `tests/cmake_package.rs` checks this list against `cmake/native-static-libs.txt`).
-const NATIVE_LIBS: &[&str] = &[
-    "-lgcc_s",
-    "-lutil",
-    "-lrt",
-    "-lpthread",
-    "-lm",
-    "-ldl",
-    "-lc",
-];
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The directory of this test binary (target/<profile>/deps), where cargo put the library.
-fn deps_dir() -> PathBuf {
-    std::env::current_exe()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-/// The freshest `librollslide.a` of this profile.
-fn static_library() -> PathBuf {
-    let deps = deps_dir();
-    let candidates = [deps.join("librollslide.a"), deps.join("../librollslide.a")];
-    candidates
-        .into_iter()
-        .filter(|p| p.exists())
-        .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok())
-        .expect("librollslide.a not found next to the test binary; run through `cargo test`")
-}
-
-fn compiler() -> cc::Tool {
-    cc::Build::new()
-        .target(env!("RSL_BUILD_TARGET"))
-        .host(env!("RSL_BUILD_HOST"))
-        .opt_level(1)
-        .cargo_metadata(false)
-        .warnings(false)
-        .get_compiler()
-}
+mod common;
+use common::linking::{compiler, deps_dir, native_libs, root, static_library};
 
 /// Runs a command; returns its exit success and its stdout + stderr.
 fn run(cmd: &mut Command) -> (bool, String) {
@@ -72,7 +28,7 @@ fn parallel_forces_example_is_bitwise_the_serial_step() {
     let work = deps_dir().join("../parallel_example_build");
     std::fs::create_dir_all(&work).unwrap();
     let exe = work.join("parallel_forces");
-    let mut cc = compiler().to_command();
+    let mut cc = compiler(false).to_command();
     cc.args([
         "-std=c11",
         "-Wall",
@@ -85,7 +41,7 @@ fn parallel_forces_example_is_bitwise_the_serial_step() {
     .arg(root().join("include"))
     .arg(root().join("examples/parallel_forces.c"))
     .arg(static_library())
-    .args(NATIVE_LIBS)
+    .args(native_libs())
     .arg("-o")
     .arg(&exe);
     let (built, text) = run(&mut cc);

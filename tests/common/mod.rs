@@ -113,6 +113,7 @@ pub fn assert_vec_close(a: &Vec3<f64>, b: &Vec3<f64>, abs: f64, rel: f64, what: 
     );
 }
 
+pub mod linking;
 pub mod reference;
 
 pub fn v(x: f64, y: f64, z: f64) -> Vec3<f64> {

@@ -1,0 +1,53 @@
+//! Building C and C++ programs against the static library `cargo test` just built (the C tests,
+//! the examples the tests run).
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+/// The repository root.
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The directory of this test binary (target/<profile>/deps), where cargo put the library.
+pub fn deps_dir() -> PathBuf {
+    std::env::current_exe()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+/// The freshest `librollslide.a` of this profile.
+pub fn static_library() -> PathBuf {
+    let deps = deps_dir();
+    let candidates = [deps.join("librollslide.a"), deps.join("../librollslide.a")];
+    candidates
+        .into_iter()
+        .filter(|p| p.exists())
+        .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok())
+        .expect("librollslide.a not found next to the test binary; run through `cargo test`")
+}
+
+/// The system libraries a Rust static library needs, as the CMake package and the pkg-config
+/// files pin them (`cmake/native-static-libs.txt`; `tests/cmake_package.rs` checks the list
+/// against `rustc --print native-static-libs`).
+pub fn native_libs() -> Vec<String> {
+    std::fs::read_to_string(root().join("cmake/native-static-libs.txt"))
+        .unwrap()
+        .split_whitespace()
+        .map(str::to_string)
+        .collect()
+}
+
+/// The C (or C++) compiler the `cc` crate picks for this target, flags left to the caller.
+pub fn compiler(cpp: bool) -> cc::Tool {
+    cc::Build::new()
+        .cpp(cpp)
+        .target(env!("RSL_BUILD_TARGET"))
+        .host(env!("RSL_BUILD_HOST"))
+        .opt_level(1)
+        .cargo_metadata(false)
+        .warnings(false)
+        .get_compiler()
+}
