@@ -652,9 +652,10 @@ extern "C" {
 
 // Steps many sphere-sphere contacts (particle-major). Contact `c` joins particles
 // `pairs[2c]` (body 1) and `pairs[2c+1]` (body 2); its normal force is `normal_force[c]`
-// (signed: compressive positive, tensile negative) and its history `states[c]`. The loads are **added** to the particle arrays:
-// `force[i] += F1`, `force[j] -= F1`, `torque[i] += M1`, `torque[j] += M2` (in contact order,
-// so the sums do not depend on the SIMD level). `normal_stiffness` (per contact, k_n > 0) is
+// (signed: compressive positive, tensile negative) and its history `states[c]`. The loads
+// are **added** to the particle arrays: `force[i] += F1`, `force[j] -= F1`,
+// `torque[i] += M1`, `torque[j] += M2` (in contact order, so the sums do not depend on the
+// SIMD level). `normal_stiffness` (per contact, k_n > 0) is
 // read only when the model needs it (EPSD-derived rolling stiffness, LIGGGHTS' cdt) and may
 // be NULL otherwise. `options` may be NULL (double, best SIMD). `report` may be NULL.
 //
