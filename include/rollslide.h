@@ -5,6 +5,10 @@
  * Conventions: n points from body 1 to body 2; rates are body 1 relative to body 2; loads are
  * on body 1 unless named otherwise. Every fallible function returns an int32_t status
  * (RSL_OK = 0) and writes its outputs only on success.
+ *
+ * ABI: 0.2.0 breaks 0.1's. rsl_contact_input grew by 8 bytes (shear_adhesion, before flags):
+ * rebuild against this header. The shared library's SONAME carries the minor version while the
+ * major is 0 (librollslide.so.0.2), so a program built against 0.1 does not load it.
  */
 
 #ifndef ROLLSLIDE_H
@@ -111,6 +115,29 @@
 // Input flag: use `twisting_friction` (mu_tw, a length) for this contact (sds).
 #define RSL_INPUT_TWISTING_FRICTION 512
 
+// Input flag: the contact is a cohesive bond with shear adhesion
+// `rsl_contact_input.shear_adhesion` (a force, at least 0): the sliding limit becomes
+// `max(0, shear_adhesion + mu F)`, `mu` the model's sliding friction. `F` is `limit_force`
+// with `RSL_INPUT_LIMIT_FORCE`; else, for YADE_2023, the signed `normal_force` (YADE 2023.02a
+// CohFrict's `shearAdhesion + Fn tan(phi)`, lowered by tension), and for the other presets
+// the force their limits use (`max(f_n, 0)` objective, `|f_n|` LAMMPS_2021 and LIGGGHTS_3_8).
+// With YADE_2023 and without `RSL_INPUT_LIMIT_FORCE`, as CohFrict does: the rolling and
+// twisting limits use `|f_n|` (also under tension), and in a step where the sliding limit is
+// reached while `f_n < 0` the normal force is not applied (`force1` has no normal part) and
+// the rolling and twisting limits are 0. The other limits are unchanged. The normal law is the
+// host's (CohFrict: `kn (un - unp)`, its normal plasticity at `-normalAdhesion`, and the end of
+// the contact when a fragile bond pulls harder than `normalAdhesion`). Not covered: CohFrict's
+// `cohesionDisablesFriction` (sliding limit `shearAdhesion` alone).
+#define RSL_INPUT_SHEAR_ADHESION 1024
+
+// Input flag (only with `RSL_INPUT_SHEAR_ADHESION`): the bond is fragile (YADE's `fragile`).
+// When the trial sliding load exceeds the adhesive limit, the bond breaks in this step: the
+// limit is recomputed without the adhesion (`mu F`, the limit without
+// `RSL_INPUT_SHEAR_ADHESION`) and the trial is clipped to it, and `RSL_SLIP_BOND_BROKEN` is
+// reported. The host then drops the bond's adhesions (its normal one included) for every later
+// step of this contact: it clears both flags. The library keeps no bond state.
+#define RSL_INPUT_FRAGILE_BOND 2048
+
 // Slip flag: the sliding limit was reached this step.
 #define RSL_SLIP_SLIDING 1
 
@@ -119,6 +146,10 @@
 
 // Slip flag: the twisting limit was reached this step.
 #define RSL_SLIP_TWISTING 4
+
+// Slip flag: a fragile bond (`RSL_INPUT_FRAGILE_BOND`) broke this step (with
+// `RSL_SLIP_SLIDING`); step the contact without its adhesion from now on.
+#define RSL_SLIP_BOND_BROKEN 8
 
 // Branch rule `midplane`: `l_k = R_k - delta/2` (default; objective sliding).
 #define RSL_BRANCH_MIDPLANE 0
@@ -288,14 +319,14 @@
 #define RSL_VERSION_MAJOR 0
 
 // Minor version of the header.
-#define RSL_VERSION_MINOR 1
+#define RSL_VERSION_MINOR 2
 
 // Patch version of the header.
 #define RSL_VERSION_PATCH 0
 
 // The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
-// PATCH` (0.1.0 is 100): `#if RSL_VERSION_NUMBER >= 100`.
-#define RSL_VERSION_NUMBER 100
+// PATCH` (0.2.0 is 200): `#if RSL_VERSION_NUMBER >= 200`.
+#define RSL_VERSION_NUMBER 200
 
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
@@ -497,6 +528,11 @@ typedef struct rsl_contact_input {
   // Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no
   // limit, even at zero force).
   double twisting_friction;
+  // Shear adhesion of a cohesive bond (force, >= 0; +INFINITY: no sliding limit while
+  // bonded), with `RSL_INPUT_SHEAR_ADHESION`: added to the sliding limit (see the flag). YADE
+  // CohFrict: the contact's `shearAdhesion`, `shearCohesion min(R1, R2)^2`. Added in 0.2.0
+  // (the struct grew by 8 bytes).
+  double shear_adhesion;
   // OR of `RSL_INPUT_*`.
   uint32_t flags;
   // Padding; keep 0.
