@@ -4,11 +4,12 @@
 mod common;
 
 use common::{full_model, scene_models, Rng};
-use rollslide::batch::history::{history_words, words_from_state, Record};
+use rollslide::batch::history::{history_words, words_from_state};
 use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene};
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use rollslide::capi::contact::rsl_contact_state;
+use rollslide::capi::history::Record;
 use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use rollslide::decompose::{decompose_pair, Parts, Sphere};
 use rollslide::error::Error;

@@ -1,5 +1,5 @@
 //! Packed contact histories: only the words of [`ContactState`] that a model reads, as a
-//! record of doubles per contact.
+//! record of doubles per contact (the C layer's `Record` steps them in the batch kernels).
 //!
 //! A batch step is limited by the memory traffic of the state as much as by its arithmetic:
 //! the 13 doubles of a [`ContactState`] (112 bytes in the C struct) are read and written per
@@ -13,7 +13,6 @@
 //! Record layout, in doubles: sliding spring (3), rolling spring (3), twisting angle, then
 //! with 10 or 13 words the previous normal (3), then with 13 the twisting off-axis part (3).
 
-use super::StateSlot;
 use crate::laws::model::{Model, Transport};
 use crate::laws::step::ContactState;
 use crate::scalar::Vec3;
@@ -39,21 +38,8 @@ pub fn history_words(model: &Model) -> usize {
     }
 }
 
-/// One contact's packed history of `W` doubles ([`SPRINGS_ONLY`], [`WITH_NORMAL`] or
-/// [`WITH_OFFAXIS`]), laid out as the module documentation says.
-#[repr(transparent)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Record<const W: usize>(pub [f64; W]);
-
-impl<const W: usize> Record<W> {
-    /// The record of `state` (the words a `W`-word record does not keep are dropped).
-    pub fn from_state(state: &ContactState<f64>) -> Self {
-        Record(std::array::from_fn(|q| record_word(state, q)))
-    }
-}
-
 /// Word `q` of a record, read from `s`.
-fn record_word(s: &ContactState<f64>, q: usize) -> f64 {
+pub fn record_word(s: &ContactState<f64>, q: usize) -> f64 {
     let v = |v: &Vec3<f64>, i: usize| v[i];
     match q {
         0..=2 => v(&s.sliding_spring, q),
@@ -64,7 +50,7 @@ fn record_word(s: &ContactState<f64>, q: usize) -> f64 {
     }
 }
 
-/// The state of a packed record `words` (7, 10 or 13 doubles; the words it does not keep are
+/// The state of a packed record `words` (7, 10 or 13 doubles; the fields it does not keep are
 /// zero). `None` for another length.
 pub fn state_from_words(words: &[f64]) -> Option<ContactState<f64>> {
     if ![SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS].contains(&words.len()) {
@@ -93,27 +79,6 @@ pub fn words_from_state(state: &ContactState<f64>, words: &mut [f64]) -> bool {
     true
 }
 
-impl<const W: usize> StateSlot for Record<W> {
-    #[inline(always)]
-    fn load(&self) -> ContactState<f64> {
-        let w = |q: usize| if q < W { self.0[q] } else { 0.0 };
-        let v = |q: usize| Vec3::new(w(q), w(q + 1), w(q + 2));
-        ContactState {
-            sliding_spring: v(0),
-            rolling_spring: v(3),
-            twisting_angle: w(6),
-            previous_normal: v(7),
-            twisting_offaxis: v(10),
-        }
-    }
-    #[inline(always)]
-    fn store(&mut self, state: &ContactState<f64>, _slip: u32) {
-        for (q, w) in self.0.iter_mut().enumerate() {
-            *w = record_word(state, q);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -132,23 +97,21 @@ mod tests {
     #[test]
     fn records_keep_springs_then_normal_then_offaxis() {
         let s = state();
+        let record = |n: usize| {
+            let mut words = vec![0.0; n];
+            assert!(words_from_state(&s, &mut words));
+            words
+        };
+        assert_eq!(record(7), [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
         assert_eq!(
-            Record::<7>::from_state(&s).0,
-            [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]
-        );
-        assert_eq!(
-            Record::<13>::from_state(&s).0,
+            record(13),
             [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 11.0, 12.0, 13.0, 8.0, 9.0, 10.0]
         );
-        assert_eq!(Record::<13>::from_state(&s).load(), s);
-        let ten = Record::<10>::from_state(&s);
-        let back = ten.load();
+        assert_eq!(state_from_words(&record(13)), Some(s));
+        let back = state_from_words(&record(10)).unwrap();
         assert_eq!(back.previous_normal, s.previous_normal);
         assert_eq!(back.twisting_offaxis, Vec3::zeros());
-        assert_eq!(state_from_words(&ten.0), Some(back));
-        let mut words = [0.0; 10];
-        assert!(words_from_state(&s, &mut words));
-        assert_eq!(words, ten.0);
+        assert_eq!(record(10)[..7], record(7)[..]);
         assert!(!words_from_state(&s, &mut [0.0; 8]));
         assert_eq!(state_from_words(&[0.0; 12]), None);
     }

@@ -17,6 +17,7 @@
 
 use super::contact::rsl_contact_state;
 use super::decompose::{parse_options, rsl_decompose_options};
+use super::history::Record;
 use super::model::{live_model, rsl_model};
 use super::status::FfiError;
 #[cfg(target_arch = "x86_64")]
@@ -24,8 +25,8 @@ use super::transpose::{Avx2Copy, Avx512Copy};
 use super::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use super::{guard, optional_input, output};
 use crate::batch::history::{
-    history_words, state_from_words as history_state_from_words, words_from_state, Record,
-    SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS,
+    history_words, state_from_words as history_state_from_words, words_from_state, SPRINGS_ONLY,
+    WITH_NORMAL, WITH_OFFAXIS,
 };
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
@@ -140,7 +141,7 @@ pub struct rsl_batch_loads {
 /// at 1M contacts with an earlier kernel: into L2 51 ns/contact, into L1 (`T0`) 69: the lines
 /// of 48 contacts ahead crowd L1.
 #[inline(always)]
-fn prefetch<T>(p: &T) {
+pub(crate) fn prefetch<T>(p: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: PREFETCHT1 is a hint: it never faults and changes no architectural state; the
     // address comes from a live reference anyway.

@@ -12,8 +12,8 @@
 //! [`PortableCopy`]: crate::batch::PortableCopy
 
 use super::contact::rsl_contact_state;
+use super::history::Record;
 use super::types::rsl_sphere;
-use crate::batch::history::Record;
 use crate::batch::{GroupCopy, GroupRow, BODY_WORDS, GROUP, STATE_WORDS};
 use std::mem::{offset_of, size_of};
 
