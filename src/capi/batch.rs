@@ -752,6 +752,71 @@ unsafe fn report_out<'a>(
     }
 }
 
+/// The checked arguments of a particle-major step call, but its per-contact histories.
+struct ParticleArgs<'a> {
+    model: &'a rsl_model,
+    particles: &'a [rsl_sphere],
+    pairs: &'a [[u32; 2]],
+    normal_force: &'a [f64],
+    normal_stiffness: Option<&'a [f64]>,
+    config: BatchConfig,
+    force: &'a mut [rsl_vec3],
+    torque: &'a mut [rsl_vec3],
+}
+
+/// Checks and borrows the arguments shared by `rsl_batch_step` and `rsl_batch_step_history`.
+///
+/// # Safety
+/// As those functions' contracts for these arguments.
+#[allow(clippy::too_many_arguments)]
+unsafe fn particle_args<'a>(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    options: *const rsl_batch_options,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+) -> Result<ParticleArgs<'a>, FfiError> {
+    // SAFETY: forwarded contract; every helper checks NULL and alignment; `[u32; 2]` has the
+    // size and alignment of two `u32`.
+    let (m, particles, pairs, f_n, opts, force, torque) = unsafe {
+        (
+            live_model(model)?,
+            slice_in(particles, n_particles, "particles")?,
+            slice_in(pairs as *const [u32; 2], n_contacts, "pairs")?,
+            slice_in(normal_force, n_contacts, "normal_force")?,
+            optional_input(options, "options")?,
+            slice_out(force, n_particles, "force")?,
+            slice_out(torque, n_particles, "torque")?,
+        )
+    };
+    let k_n = if normal_stiffness.is_null() {
+        if needs_normal_stiffness(&m.model) && n_contacts > 0 {
+            return Err(FfiError::NullPointer(
+                "normal_stiffness (the model needs k_n)",
+            ));
+        }
+        None
+    } else {
+        // SAFETY: as above.
+        Some(unsafe { slice_in(normal_stiffness, n_contacts, "normal_stiffness")? })
+    };
+    Ok(ParticleArgs {
+        model: m,
+        particles,
+        pairs,
+        normal_force: f_n,
+        normal_stiffness: k_n,
+        config: BatchConfig::from_options(opts)?,
+        force,
+        torque,
+    })
+}
+
 /// Steps many sphere-sphere contacts (particle-major). Contact `c` joins particles
 /// `pairs[2c]` (body 1) and `pairs[2c+1]` (body 2); its normal force is `normal_force[c]`
 /// (signed: compressive positive, tensile negative) and its history `states[c]`. The loads
@@ -800,42 +865,34 @@ pub unsafe extern "C" fn rsl_batch_step(
         // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
         let report = unsafe { report_out(report)? };
         let result = (|| -> Result<_, FfiError> {
-            // SAFETY: as above; `[u32; 2]` has the size and alignment of two `u32`.
-            let (m, particles, pairs, f_n, opts, states, force, torque) = unsafe {
-                (
-                    live_model(model)?,
-                    slice_in(particles, n_particles, "particles")?,
-                    slice_in(pairs as *const [u32; 2], n_contacts, "pairs")?,
-                    slice_in(normal_force, n_contacts, "normal_force")?,
-                    optional_input(options, "options")?,
-                    slice_out(states, n_contacts, "states")?,
-                    slice_out(force, n_particles, "force")?,
-                    slice_out(torque, n_particles, "torque")?,
-                )
+            // SAFETY: forwarded contract of this function.
+            let a = unsafe {
+                particle_args(
+                    model,
+                    particles,
+                    n_particles,
+                    pairs,
+                    n_contacts,
+                    normal_force,
+                    normal_stiffness,
+                    options,
+                    force,
+                    torque,
+                )?
             };
-            let k_n = if normal_stiffness.is_null() {
-                if needs_normal_stiffness(&m.model) && n_contacts > 0 {
-                    return Err(FfiError::NullPointer(
-                        "normal_stiffness (the model needs k_n)",
-                    ));
-                }
-                None
-            } else {
-                // SAFETY: as above.
-                Some(unsafe { slice_in(normal_stiffness, n_contacts, "normal_stiffness")? })
-            };
-            let config = BatchConfig::from_options(opts)?;
+            // SAFETY: as above.
+            let states = unsafe { slice_out(states, n_contacts, "states")? };
             let access = ParticleSteps {
-                particles,
-                pairs,
-                normal_force: f_n,
-                normal_stiffness: k_n,
+                particles: a.particles,
+                pairs: a.pairs,
+                normal_force: a.normal_force,
+                normal_stiffness: a.normal_stiffness,
                 states,
-                force,
-                torque,
+                force: a.force,
+                torque: a.torque,
             };
             access.check()?;
-            Ok((m, access, config))
+            Ok((a.model, access, a.config))
         })();
         match result {
             Err(e) => refuse(report, e),
@@ -956,19 +1013,22 @@ pub unsafe extern "C" fn rsl_batch_step_history(
         // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
         let report = unsafe { report_out(report)? };
         let result = (|| -> Result<_, FfiError> {
-            // SAFETY: as above; `[u32; 2]` has the size and alignment of two `u32`.
-            let (m, particles, pairs, f_n, opts, force, torque) = unsafe {
-                (
-                    live_model(model)?,
-                    slice_in(particles, n_particles, "particles")?,
-                    slice_in(pairs as *const [u32; 2], n_contacts, "pairs")?,
-                    slice_in(normal_force, n_contacts, "normal_force")?,
-                    optional_input(options, "options")?,
-                    slice_out(force, n_particles, "force")?,
-                    slice_out(torque, n_particles, "torque")?,
-                )
+            // SAFETY: forwarded contract of this function.
+            let a = unsafe {
+                particle_args(
+                    model,
+                    particles,
+                    n_particles,
+                    pairs,
+                    n_contacts,
+                    normal_force,
+                    normal_stiffness,
+                    options,
+                    force,
+                    torque,
+                )?
             };
-            let words = history_words(&m.model);
+            let words = history_words(&a.model.model);
             let doubles =
                 n_contacts
                     .checked_mul(words)
@@ -977,25 +1037,11 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                     )))?;
             // SAFETY: as above: `history` holds `n_contacts` records of `words` doubles.
             let history = unsafe { slice_out(history, doubles, "history")? };
-            let k_n = if normal_stiffness.is_null() {
-                if needs_normal_stiffness(&m.model) && n_contacts > 0 {
-                    return Err(FfiError::NullPointer(
-                        "normal_stiffness (the model needs k_n)",
-                    ));
-                }
-                None
-            } else {
-                // SAFETY: as above.
-                Some(unsafe { slice_in(normal_stiffness, n_contacts, "normal_stiffness")? })
-            };
-            let config = BatchConfig::from_options(opts)?;
-            Ok((
-                m, particles, pairs, f_n, k_n, history, force, torque, config,
-            ))
+            Ok((a, history))
         })();
         match result {
             Err(e) => refuse(report, e),
-            Ok((m, particles, pairs, f_n, k_n, history, force, torque, config)) => {
+            Ok((a, history)) => {
                 /// Steps the records as `W`-word records.
                 #[allow(clippy::too_many_arguments)]
                 fn run<const W: usize>(
@@ -1031,16 +1077,13 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                     access.check()?;
                     run_history_step(model, dt, &mut access, config)
                 }
-                let model = &m.model;
-                let (p, k, h) = (particles, k_n, history);
+                let (model, config) = (&a.model.model, a.config);
+                let (p, q, f, k) = (a.particles, a.pairs, a.normal_force, a.normal_stiffness);
+                let (h, fo, t) = (history, a.force, a.torque);
                 let result = match history_words(model) {
-                    SPRINGS_ONLY => {
-                        run::<SPRINGS_ONLY>(model, dt, p, pairs, f_n, k, h, force, torque, config)
-                    }
-                    WITH_NORMAL => {
-                        run::<WITH_NORMAL>(model, dt, p, pairs, f_n, k, h, force, torque, config)
-                    }
-                    _ => run::<WITH_OFFAXIS>(model, dt, p, pairs, f_n, k, h, force, torque, config),
+                    SPRINGS_ONLY => run::<SPRINGS_ONLY>(model, dt, p, q, f, k, h, fo, t, config),
+                    WITH_NORMAL => run::<WITH_NORMAL>(model, dt, p, q, f, k, h, fo, t, config),
+                    _ => run::<WITH_OFFAXIS>(model, dt, p, q, f, k, h, fo, t, config),
                 };
                 finish(report, result.map(|(b, s)| (b, s as u32, config.simd)))
             }
