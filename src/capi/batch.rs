@@ -752,6 +752,29 @@ unsafe fn report_out<'a>(
     }
 }
 
+/// The per-contact `k_n` array of a step call: required (`n` values) when the model reads
+/// `k_n` and there are contacts, else optional (NULL gives `None`).
+///
+/// # Safety
+/// `normal_stiffness` is NULL or points to `n` readable doubles.
+unsafe fn stiffness_in<'a>(
+    m: &rsl_model,
+    normal_stiffness: *const f64,
+    n: usize,
+) -> Result<Option<&'a [f64]>, FfiError> {
+    if normal_stiffness.is_null() {
+        if needs_normal_stiffness(&m.model) && n > 0 {
+            return Err(FfiError::NullPointer(
+                "normal_stiffness (the model needs k_n)",
+            ));
+        }
+        Ok(None)
+    } else {
+        // SAFETY: forwarded contract.
+        Some(unsafe { slice_in(normal_stiffness, n, "normal_stiffness") }).transpose()
+    }
+}
+
 /// The checked arguments of a particle-major step call, but its per-contact histories.
 struct ParticleArgs<'a> {
     model: &'a rsl_model,
@@ -794,17 +817,8 @@ unsafe fn particle_args<'a>(
             slice_out(torque, n_particles, "torque")?,
         )
     };
-    let k_n = if normal_stiffness.is_null() {
-        if needs_normal_stiffness(&m.model) && n_contacts > 0 {
-            return Err(FfiError::NullPointer(
-                "normal_stiffness (the model needs k_n)",
-            ));
-        }
-        None
-    } else {
-        // SAFETY: as above.
-        Some(unsafe { slice_in(normal_stiffness, n_contacts, "normal_stiffness")? })
-    };
+    // SAFETY: as above.
+    let k_n = unsafe { stiffness_in(m, normal_stiffness, n_contacts)? };
     Ok(ParticleArgs {
         model: m,
         particles,
@@ -1129,17 +1143,8 @@ pub unsafe extern "C" fn rsl_batch_step_contacts(
                     slice_out(out, n, "out")?,
                 )
             };
-            let k_n = if normal_stiffness.is_null() {
-                if needs_normal_stiffness(&m.model) && n > 0 {
-                    return Err(FfiError::NullPointer(
-                        "normal_stiffness (the model needs k_n)",
-                    ));
-                }
-                None
-            } else {
-                // SAFETY: as above.
-                Some(unsafe { slice_in(normal_stiffness, n, "normal_stiffness")? })
-            };
+            // SAFETY: as above.
+            let k_n = unsafe { stiffness_in(m, normal_stiffness, n)? };
             let config = BatchConfig::from_options(opts)?;
             let access = ContactSteps {
                 body1,
