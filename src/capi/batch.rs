@@ -137,6 +137,22 @@ pub struct rsl_batch_loads {
     pub torque2: rsl_vec3,
 }
 
+/// Prefetches the cache line holding `*p` into L1 (`PREFETCHT0`; no-op off x86-64): for the
+/// contacts' histories, read in order, one record or state per contact. Measured (A, 1.2M
+/// contacts, full set, f64 AVX-512, records of 7 doubles): 23.3 ns per contact into L1 against
+/// 25.4 into L2.
+#[inline(always)]
+pub(crate) fn prefetch_l1<T>(p: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: PREFETCHT0 is a hint: it never faults and changes no architectural state; the
+    // address comes from a live reference anyway.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+            (p as *const T).cast::<i8>(),
+        )
+    }
+}
+
 /// Prefetches the cache line holding `*p` into L2 (`PREFETCHT1`; no-op off x86-64). Measured
 /// at 1M contacts with an earlier kernel: into L2 51 ns/contact, into L1 (`T0`) 69: the lines
 /// of 48 contacts ahead crowd L1.

@@ -41,7 +41,7 @@ impl<const W: usize> StateSlot for Record<W> {
     #[inline(always)]
     fn touch(&self) {
         // The record's first and last doubles: its one or two cache lines.
-        super::batch::prefetch(&self.0[0]);
-        super::batch::prefetch(&self.0[W - 1]);
+        super::batch::prefetch_l1(&self.0[0]);
+        super::batch::prefetch_l1(&self.0[W - 1]);
     }
 }
