@@ -667,3 +667,79 @@ fn objective_preset_in_a_rigid_rotation() {
     assert!((tangential(last) - 0.5 * f_n).abs() < 1e-6 * f_n);
     assert!((last[0][11].abs() - 0.59 * 0.5 * f_n).abs() < 1e-6 * f_n);
 }
+
+/// Bad input is a LAMMPS error with a message, never a crash: a keyword outside the subset is
+/// named, coefficients the library refuses carry its message, and a contact the library
+/// refuses (two atoms at the same place) names both atom IDs and the library's message, with
+/// one rank and with two.
+#[test]
+fn bad_input_is_a_lammps_error_with_a_message() {
+    let Some(exe) = binary() else { return };
+    let dir = rundir("bad_input");
+    let ok = "hooke 1e4 0 tangential linear_history 1e4 0 0.5 rolling sds 1 1 1 twisting sds 1 1 1";
+    let cases: [(usize, &str, &str, &str); 6] = [
+        (
+            1,
+            "lammps",
+            "jkr 1e4 0 0.3 1 tangential linear_history 1e4 0 0.5",
+            "keyword 'jkr' is not supported",
+        ),
+        (
+            1,
+            "lammps",
+            "hooke 1e4 0 tangential linear_nohistory 0 0.5",
+            "tangential model 'linear_nohistory' is not supported",
+        ),
+        (
+            1,
+            "lammps",
+            "hooke 1e4 0 tangential linear_history 1e4 0 0.5 rolling sds -1 1 1",
+            "rolling stiffness = -1",
+        ),
+        (1, "fancy", ok, "unknown keyword 'fancy'"),
+        (
+            1,
+            "lammps",
+            ok,
+            "failed for the contact of atoms 1 and 2: coincident centres",
+        ),
+        (
+            2,
+            "objective",
+            ok,
+            "failed for the contact of atoms 1 and 2: coincident centres",
+        ),
+    ];
+    for (np, preset, coeffs, want) in cases {
+        let mut cmd = if np == 1 {
+            Command::new(exe)
+        } else {
+            let mut c = Command::new("mpirun");
+            c.args(["--allow-run-as-root", "-np", &np.to_string()])
+                .arg(exe);
+            c
+        };
+        let out = cmd
+            .current_dir(&dir)
+            .arg("-in")
+            .arg(inputs().join("in.bad_input"))
+            .args([
+                "-log", "none", "-var", "preset", preset, "-var", "coeffs", coeffs,
+            ])
+            .output()
+            .unwrap();
+        let text = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let error = text
+            .lines()
+            .find(|l| l.starts_with("ERROR"))
+            .unwrap_or_else(|| panic!("no LAMMPS error for {preset} / {coeffs}:\n{text}"));
+        println!("{error}");
+        assert!(error.contains(want), "expected '{want}' in: {error}");
+        // A LAMMPS error exits with status 1 (error->all / MPI_Abort), not a signal.
+        assert!(out.status.code().is_some(), "crashed: {:?}", out.status);
+    }
+}
