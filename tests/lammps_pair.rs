@@ -292,23 +292,24 @@ fn thermo(log: &str) -> Vec<Vec<f64>> {
 
 /// (a) Same scene, same pair_coeff, one rank, newton off, no sorting, no periodic wraps:
 /// stock `pair_style granular` and `granular/rollslide lammps` give the same per-atom forces and
-/// torques to 1e-10 (measured: a few 1e-14) over the first 20 steps, for three law sets (the
+/// torques to 1e-10 (measured: below 1e-12) over the first 20 steps, for four law sets (the
 /// batch path: hooke, velocity damping, linear_history, rolling sds, twisting sds; the
-/// per-contact path: hertz/material, viscoelastic damping, mindlin, twisting marshall; and tsuji
-/// damping), and the macroscopic quantities follow the same curve over 3000 steps.
+/// per-contact path: hertz/material, viscoelastic damping, mindlin, twisting marshall; tsuji
+/// damping; hertz, mass_velocity damping, limit_damping), and the macroscopic quantities
+/// (pressure included: the virial is tallied per pair) follow the same curve over 3000 steps.
 ///
 /// 1e-10: the two codes evaluate the same formulas in a different order (a few ulps per
 /// contact, 1e-16 of the loads), and over 20 steps the packing amplifies rounding by less than
 /// a factor 1e3 (measured); a rule difference (a clip, a sign, a transport condition, a
 /// history lost or flipped) moves loads by 1e-3 or more. Macroscopic curves (kinetic and
-/// rotational energy, coordination number, mean |torque|): within 1e-6 of each quantity's
+/// rotational energy, coordination number, mean |torque|, pressure): within 1e-6 of each quantity's
 /// largest value at every 100th step; rounding grows to ~1e-9 per atom by step 3000
 /// (measured), while any difference of law changes these curves at the percent level.
 #[test]
 fn stock_granular_and_granular_rollslide_lammps_agree() {
     let Some(exe) = binary() else { return };
     let dir = rundir("agree");
-    for law in ["A", "B", "C"] {
+    for law in ["A", "B", "C", "E"] {
         let mut dumps = Vec::new();
         for (pair, preset) in [("granular", ""), ("granular/rollslide", "lammps")] {
             let dump = format!("{}_{law}.dump", pair.replace('/', "_"));
@@ -360,6 +361,7 @@ fn stock_granular_and_granular_rollslide_lammps_agree() {
         "rotational energy",
         "coordination",
         "mean |torque|",
+        "pressure",
     ];
     for (c, name) in names.iter().enumerate() {
         let col = c + 1;
@@ -400,7 +402,10 @@ fn mpi_ranks_newton_and_sorting_carry_the_history() {
     let Some(exe) = binary() else { return };
     let dir = rundir("mpi");
     let packing = |np: usize, pair: &str, preset: &str, newton: &str, sort: &str| {
-        let dump = format!("{}_np{np}_{newton}_sort{sort}.dump", pair.replace('/', "_"));
+        let dump = format!(
+            "{}_{preset}_np{np}_{newton}_sort{sort}.dump",
+            pair.replace('/', "_")
+        );
         lammps(
             exe,
             &dir,
@@ -454,6 +459,15 @@ fn mpi_ranks_newton_and_sorting_carry_the_history() {
             t.over_median
         );
     }
+    // The objective preset: the same carrying of the history.
+    let objective_one = packing(1, "granular/rollslide", "objective", "off", "0");
+    let objective_two = packing(2, "granular/rollslide", "objective", "on", "10");
+    let (f, t) = compare(&objective_one[&600], &objective_two[&600]);
+    println!(
+        "objective preset, np 2 newton on sort 10 vs np 1: force {:.2e}, torque {:.2e}",
+        f.over_median, t.over_median
+    );
+    assert!(f.over_median < 1e-8 && t.over_median < 1e-8);
     // Control: stock LAMMPS flips the rolling and twisting springs at every swap.
     let stock_off = packing(1, "granular", "", "off", "0");
     let stock_on = packing(2, "granular", "", "on", "0");
