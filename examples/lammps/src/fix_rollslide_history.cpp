@@ -240,6 +240,9 @@ int FixRollslideHistory::unpack_exchange(int nlocal, double *buf)
     unpack_partner(&buf[m], partners[nlocal][k]);
     m += PARTNER_DOUBLES;
   }
+  // This rank may send the atom on before its next pre_exchange: Comm sizes its buffers from
+  // maxexchange, which must cover every owned atom's list.
+  if (1 + PARTNER_DOUBLES * n > maxexchange) maxexchange = 1 + PARTNER_DOUBLES * n;
   return m;
 }
 
@@ -269,6 +272,7 @@ void FixRollslideHistory::unpack_restart(int nlocal, int nth)
     unpack_partner(&extra[nlocal][m], partners[nlocal][k]);
     m += PARTNER_DOUBLES;
   }
+  if (1 + PARTNER_DOUBLES * n > maxexchange) maxexchange = 1 + PARTNER_DOUBLES * n;
   live = false;
 }
 
