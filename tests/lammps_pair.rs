@@ -100,9 +100,23 @@ fn binary() -> Option<&'static PathBuf> {
                 );
                 return None;
             }
+            exclusive();
             Some(build())
         })
         .as_ref()
+}
+
+/// `cargo test` and `cargo test --release` share `target/tmp/lammps` (the build, the run
+/// directories): a second test process waits here until the first has exited (the lock is
+/// released when the process ends).
+fn exclusive() {
+    static LOCK: OnceLock<std::fs::File> = OnceLock::new();
+    LOCK.get_or_init(|| {
+        std::fs::create_dir_all(work()).unwrap();
+        let file = std::fs::File::create(work().join("lock")).unwrap();
+        file.lock().expect("cannot lock target/tmp/lammps/lock");
+        file
+    });
 }
 
 /// Installs rollslide with the repository's CMake build into a prefix, then builds
