@@ -73,6 +73,10 @@
  *   percontact_c    rsl_contact_step per contact + the host adds the loads
  *   batch_<p>_<l>   rsl_batch_step (particle-major), precision p = f64|f32, SIMD level
  *                   l = scalar|avx2|avx512 (each level rsl_batch_simd_support reports)
+ *   history_<p>_<l>  rsl_batch_step_history (particle-major, packed histories of
+ *                   rsl_model_history_size doubles, packed from the states untimed) at the
+ *                   best level; the records are unpacked into the states for the diff (the
+ *                   fields a record does not keep, and the slip flags, taken from the baseline)
  *   contacts_<p>_<l>  rsl_batch_step_contacts (contact-major) at the best level (RSL_SIMD_AUTO;
  *                   l is the level that ran); bodies pre-gathered per contact (untimed); its
  *                   loads are added to the accumulators after the call (untimed) for the diff
@@ -417,8 +421,19 @@ static void finish(scene *s) {
     s->t = xcalloc(np, sizeof *s->t);
 }
 
+static rsl_model *MODEL; /* the model of the current measurement */
+enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE, HISTORY };
+static int MODE;
+/* Packed histories of the history_* rows (rsl_batch_step_history): HWORDS doubles per contact,
+ * room for 13. */
+static double *HIST;
+static size_t HWORDS;
+
 static void reset(scene *s) {
     memcpy(s->st, s->st0, s->nc * sizeof *s->st);
+    if (MODE == HISTORY)
+        for (size_t c = 0; c < s->nc; c++)
+            if (rsl_history_from_state(MODEL, &s->st0[c], HIST + c * HWORDS) != RSL_OK) exit(1);
     memset(s->f, 0, s->np * sizeof *s->f);
     memset(s->t, 0, s->np * sizeof *s->t);
 }
@@ -674,7 +689,6 @@ static void floor_prefetch(scene *s) {
 }
 
 /* ---- library calls ---- */
-static rsl_model *MODEL; /* the model of the current measurement */
 
 static void percontact(scene *s) {
     rsl_contact_input in;
@@ -716,12 +730,14 @@ static void percontact_acc(scene *s) {
 
 static rsl_batch_options OPTS;
 static rsl_batch_report REP; /* report of the last batch call */
-enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE };
-static int MODE;
 static void batch(scene *s) {
     int32_t status;
     const char *what;
-    if (MODE == DECOMPOSE) {
+    if (MODE == HISTORY) {
+        what = "rsl_batch_step_history";
+        status = rsl_batch_step_history(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, NULL, DT,
+                                        &OPTS, HIST, s->f, s->t, &REP);
+    } else if (MODE == DECOMPOSE) {
         what = "rsl_batch_decompose";
         status = rsl_batch_decompose(s->p, s->np, s->pairs, s->nc, NULL, &OPTS, s->dec, &REP);
     } else if (MODE == CONTACT_MAJOR) {
@@ -784,6 +800,21 @@ static void accumulate_loads(scene *s) {
 /* The baseline's results of the current physics set. */
 static rsl_vec3 *REF_F, *REF_T;
 static rsl_contact_state *REF_ST;
+
+/* The packed histories back into the states for the comparison: the record's fields; the
+ * fields a record does not keep (and the slip flags) from the reference. */
+static void unpack_history(scene *s) {
+    for (size_t c = 0; c < s->nc; c++) {
+        rsl_contact_state u;
+        if (rsl_history_to_state(MODEL, HIST + c * HWORDS, &u) != RSL_OK) exit(1);
+        s->st[c] = REF_ST[c];
+        s->st[c].sliding_spring = u.sliding_spring;
+        s->st[c].rolling_spring = u.rolling_spring;
+        s->st[c].twisting_angle = u.twisting_angle;
+        if (HWORDS >= 10) s->st[c].previous_normal = u.previous_normal;
+        if (HWORDS >= 13) s->st[c].twisting_offaxis = u.twisting_offaxis;
+    }
+}
 
 /* Max |difference| of the accumulated forces (torques) from the baseline's, relative to the
  * largest baseline force (torque) component. */
@@ -986,6 +1017,7 @@ int main(int argc, char **argv) {
     REF_F = xmalloc(s.np * sizeof *REF_F);
     REF_T = xmalloc(s.np * sizeof *REF_T);
     REF_ST = xmalloc(s.nc * sizeof *REF_ST);
+    HIST = xmalloc(s.nc * 13 * sizeof *HIST);
     char name[160];
     for (int set = 0; set < NSETS; set++) {
         const char *g = set_name[set];
@@ -996,6 +1028,7 @@ int main(int argc, char **argv) {
         s.st0 = s.st0_slip;
         run_baseline(&s, g, "baseline_c", baseline[set], reps);
         MODEL = set_model[set];
+        check(rsl_model_history_size(MODEL, &HWORDS), "rsl_model_history_size");
         if (want("percontact_acc_c"))
             row(g, "percontact_acc_c", timeit(&s, percontact_acc, reps), 1, &s);
         if (want("percontact_c")) row(g, "percontact_c", timeit(&s, percontact, reps), 1, &s);
@@ -1017,6 +1050,14 @@ int main(int argc, char **argv) {
                 row(g, name, t, 1, &s);
             }
             OPTS.simd = RSL_SIMD_AUTO;
+            snprintf(name, sizeof name, "history_%s", p);
+            if (want(name)) {
+                MODE = HISTORY;
+                double t = timeit(&s, batch, reps);
+                unpack_history(&s);
+                snprintf(name, sizeof name, "history_%s_%s", p, LEVEL[REP.simd & 3]);
+                row(g, name, t, 1, &s);
+            }
             MODE = CONTACT_MAJOR;
             snprintf(name, sizeof name, "contacts_%s", p);
             if (want(name)) {

@@ -363,6 +363,14 @@ fn main() {
                 format!("batch f32 {l32} (auto)"),
             ),
             (
+                format!("history_f64_{l64}"),
+                format!("packed histories f64 {l64} (auto)"),
+            ),
+            (
+                format!("history_f32_{l32}"),
+                format!("packed histories f32 {l32} (auto)"),
+            ),
+            (
                 "percontact_acc_c".to_string(),
                 "rsl_contact_step_accumulate".to_string(),
             ),

@@ -138,7 +138,8 @@ static rsl_model *full_model(void) {
 #define ALL_OVERRIDES                                                                         \
     (RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING | RSL_INPUT_LIMIT_FORCE |        \
      RSL_INPUT_ROLLING_STIFFNESS | RSL_INPUT_ROLLING_DAMPING | RSL_INPUT_ROLLING_FRICTION |   \
-     RSL_INPUT_TWISTING_STIFFNESS | RSL_INPUT_TWISTING_DAMPING | RSL_INPUT_TWISTING_FRICTION)
+     RSL_INPUT_TWISTING_STIFFNESS | RSL_INPUT_TWISTING_DAMPING | RSL_INPUT_TWISTING_FRICTION |  \
+     RSL_INPUT_SHEAR_ADHESION)
 
 static rsl_contact_input full_input(void) {
     rsl_contact_input in;
@@ -160,6 +161,7 @@ static rsl_contact_input full_input(void) {
     in.twisting_stiffness = 40.0;
     in.twisting_damping = 0.01;
     in.twisting_friction = 0.03;
+    in.shear_adhesion = 2.0;
     in.flags = ALL_OVERRIDES;
     return in;
 }
@@ -239,6 +241,7 @@ static const field INPUT[] = {
     F1(rsl_contact_input, twisting_stiffness, "twisting_stiffness"),
     F1(rsl_contact_input, twisting_damping, "twisting_damping"),
     F1(rsl_contact_input, twisting_friction, "twisting_friction"),
+    F1(rsl_contact_input, shear_adhesion, "shear_adhesion"),
 };
 static const field STATE[] = {
     F3(rsl_contact_state, sliding_spring, "state: sliding spring"),
@@ -679,10 +682,11 @@ void test_bad_input_contact_step_every_field_and_pointer(void) {
             int is_limit = f->offset == offsetof(rsl_contact_input, rolling_friction) ||
                            f->offset == offsetof(rsl_contact_input, twisting_friction) ||
                            f->offset == offsetof(rsl_contact_input, limit_force) ||
+                           f->offset == offsetof(rsl_contact_input, shear_adhesion) ||
                            f->offset == offsetof(rsl_contact_input, mass2) ||
                            f->offset == offsetof(rsl_contact_input, inertia2);
             if (is_limit && v == 1) {
-                /* +inf friction or limit force is documented as "no limit", +inf
+                /* +inf friction, limit force or shear adhesion is documented as "no limit", +inf
                  * mass2/inertia2 as a fixed body 2: accepted */
                 rsl_contact_state copy = st;
                 CHECK_STATUS(rsl_contact_step(m, &a, &b, &bad, &copy, &out), RSL_OK);
@@ -736,7 +740,8 @@ void test_bad_input_contact_step_every_field_and_pointer(void) {
                              offsetof(rsl_contact_input, rolling_friction),
                              offsetof(rsl_contact_input, twisting_stiffness),
                              offsetof(rsl_contact_input, twisting_damping),
-                             offsetof(rsl_contact_input, twisting_friction)};
+                             offsetof(rsl_contact_input, twisting_friction),
+                             offsetof(rsl_contact_input, shear_adhesion)};
     for (size_t i = 0; i < COUNT(nonneg); i++) {
         bad = in;
         poke(&bad, nonneg[i], -1.0);
@@ -745,7 +750,10 @@ void test_bad_input_contact_step_every_field_and_pointer(void) {
                   ">= 0", what);
     }
     bad = in;
-    bad.flags = 1u << 10;
+    bad.flags = RSL_INPUT_FRAGILE_BOND; /* a fragile bond without its shear adhesion */
+    FAIL_STEP(rsl_contact_step(m, &a, &b, &bad, &st, &out), RSL_ERR_INVALID_ARGUMENT,
+              "shear_adhesion", "fragile without adhesion");
+    bad.flags = 1u << 12;
     FAIL_STEP(rsl_contact_step(m, &a, &b, &bad, &st, &out), RSL_ERR_INVALID_ARGUMENT, "flags",
               "unknown flag");
     bad.flags = 0xFFFFFFFFu;
@@ -859,6 +867,7 @@ void test_bad_input_contact_step_wall_every_field_and_pointer(void) {
             int is_limit = f->offset == offsetof(rsl_contact_input, rolling_friction) ||
                            f->offset == offsetof(rsl_contact_input, twisting_friction) ||
                            f->offset == offsetof(rsl_contact_input, limit_force) ||
+                           f->offset == offsetof(rsl_contact_input, shear_adhesion) ||
                            f->offset == offsetof(rsl_contact_input, mass2) ||
                            f->offset == offsetof(rsl_contact_input, inertia2);
             if (is_limit && v == 1) continue; /* +inf: no limit / fixed body (tested with the pair) */
@@ -1038,7 +1047,7 @@ void test_bad_input_contact_step_accumulate_mirrors_contact_step(void) {
         bad.normal_force = NAN;
         refused += mirror(m, &a, &b, NULL, &bad, &st, "accumulate f_n NaN") != RSL_OK;
         bad = base;
-        bad.flags |= 1u << 10;
+        bad.flags |= 1u << 12;
         refused += mirror(m, &a, &b, NULL, &bad, &st, "accumulate unknown flag") != RSL_OK;
         rsl_sphere bs = b;
         bs.position = a.position;

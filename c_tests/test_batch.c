@@ -171,3 +171,101 @@ void test_batch_skips_invalid_contacts(void) {
     CHECK(rep.processed == 0);
     rsl_model_free(m);
 }
+
+/* Packed histories: record sizes per preset, pack/unpack, and rsl_batch_step_history equal to
+ * rsl_batch_step bit for bit (LAMMPS: 7 words; objective: 10), bad records skipped with the
+ * same report, call-level errors. */
+void test_batch_packed_histories(void) {
+    rsl_sphere p[NP];
+    uint32_t pairs[2 * NC];
+    double fn[NC];
+    scene(p, pairs, fn);
+    size_t words = 0;
+    const int32_t presets[4] = {RSL_PRESET_OBJECTIVE, RSL_PRESET_LAMMPS_2021,
+                                RSL_PRESET_LIGGGHTS_3_8, RSL_PRESET_YADE_2023};
+    const size_t expected[4] = {10, 7, 7, 13};
+    for (int k = 0; k < 4; k++) {
+        rsl_model *m = NULL;
+        CHECK_STATUS(rsl_model_new(presets[k], &m), RSL_OK);
+        CHECK_STATUS(rsl_model_history_size(m, &words), RSL_OK);
+        CHECK(words == expected[k]);
+        /* pack then unpack: the record's fields come back, the others are zero */
+        rsl_contact_state s, back;
+        memset(&s, 0, sizeof s);
+        s.sliding_spring = rsl_test_vec(1, 2, 3);
+        s.rolling_spring = rsl_test_vec(4, 5, 6);
+        s.twisting_angle = 7;
+        s.twisting_offaxis = rsl_test_vec(8, 9, 10);
+        s.previous_normal = rsl_test_vec(11, 12, 13);
+        s.slip_flags = 5;
+        double h[13];
+        CHECK_STATUS(rsl_history_from_state(m, &s, h), RSL_OK);
+        CHECK(h[0] == 1 && h[5] == 6 && h[6] == 7);
+        if (words >= 10) CHECK(h[7] == 11 && h[9] == 13);
+        if (words == 13) CHECK(h[10] == 8 && h[12] == 10);
+        CHECK_STATUS(rsl_history_to_state(m, h, &back), RSL_OK);
+        CHECK(back.rolling_spring.z == 6 && back.twisting_angle == 7 && back.slip_flags == 0);
+        CHECK(back.previous_normal.x == (words >= 10 ? 11 : 0));
+        CHECK(back.twisting_offaxis.y == (words == 13 ? 9 : 0));
+        CHECK_STATUS(rsl_history_from_state(m, NULL, h), RSL_ERR_NULL_POINTER);
+        CHECK_STATUS(rsl_history_to_state(m, h, NULL), RSL_ERR_NULL_POINTER);
+        rsl_model_free(m);
+    }
+    CHECK_STATUS(rsl_model_history_size(NULL, &words), RSL_ERR_NULL_POINTER);
+
+    for (int k = 0; k < 2; k++) {
+        rsl_model *m = k == 0 ? full_model() : NULL;
+        if (k == 1) {
+            CHECK_STATUS(rsl_model_new(RSL_PRESET_LAMMPS_2021, &m), RSL_OK);
+            CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
+            CHECK_STATUS(rsl_model_set_twisting(m, RSL_TWISTING_SDS, 10.0, 0.1, 0.05), RSL_OK);
+        }
+        CHECK_STATUS(rsl_model_history_size(m, &words), RSL_OK);
+        CHECK(words == (k == 0 ? 10u : 7u));
+        /* two steps of both calls from the same (zero) histories */
+        rsl_contact_state s[NC];
+        memset(s, 0, sizeof s);
+        double h[NC * 13];
+        memset(h, 0, sizeof h);
+        rsl_vec3 f1[NP], t1[NP], f2[NP], t2[NP];
+        memset(f1, 0, sizeof f1);
+        memset(t1, 0, sizeof t1);
+        memset(f2, 0, sizeof f2);
+        memset(t2, 0, sizeof t2);
+        rsl_batch_report r1, r2;
+        for (int step = 0; step < 2; step++) {
+            CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, s, f1, t1, &r1),
+                         RSL_OK);
+            CHECK_STATUS(rsl_batch_step_history(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, h, f2,
+                                                t2, &r2),
+                         RSL_OK);
+        }
+        CHECK(r1.processed == NC && r2.processed == NC && r1.scene == r2.scene);
+        CHECK(memcmp(f1, f2, sizeof f1) == 0 && memcmp(t1, t2, sizeof t1) == 0);
+        for (int c = 0; c < NC; c++) {
+            double packed[13];
+            CHECK_STATUS(rsl_history_from_state(m, &s[c], packed), RSL_OK);
+            CHECK(memcmp(packed, h + c * words, words * sizeof(double)) == 0);
+        }
+        /* a non-finite record word: that contact skipped, its record untouched */
+        h[2 * words + 4] = NAN;
+        double before[NC * 13];
+        memcpy(before, h, sizeof h);
+        CHECK_STATUS(rsl_batch_step_history(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, h, f2, t2,
+                                            &r2),
+                     RSL_ERR_NON_FINITE);
+        CHECK(r2.processed == NC - 1 && r2.failed == 1 && r2.first_failed == 2);
+        CHECK(memcmp(h + 2 * words, before + 2 * words, words * sizeof(double)) == 0);
+        /* call-level errors process nothing */
+        memcpy(before, h, sizeof h);
+        CHECK_STATUS(rsl_batch_step_history(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, NULL, f2,
+                                            t2, &r2),
+                     RSL_ERR_NULL_POINTER);
+        CHECK(r2.processed == 0);
+        CHECK_STATUS(rsl_batch_step_history(m, p, NP, pairs, NC, fn, NULL, -1.0, NULL, h, f2, t2,
+                                            &r2),
+                     RSL_ERR_INVALID_TIME_STEP);
+        CHECK(memcmp(before, h, sizeof h) == 0);
+        rsl_model_free(m);
+    }
+}

@@ -321,3 +321,123 @@ void test_yade_objective_mode_agrees_where_normals_are_fixed(void) {
     rsl_model_free(m);
     fclose(c.f);
 }
+
+/* Replays yade_cohesive.csv (CohFrict with normal and shear cohesion, cohesive_cases.json)
+ * through rsl_contact_step as a YADE host does: the signed normal force F_n = kn pen (YADE's
+ * kn (un - unp), unp = 0: the cases stay above -normalAdhesion), the shear stiffness ks, and
+ * while the bond holds RSL_INPUT_SHEAR_ADHESION with YADE's shearAdhesion (plus
+ * RSL_INPUT_FRAGILE_BOND for a fragile bond); after RSL_SLIP_BOND_BROKEN the host drops both
+ * flags. `use_adhesion` = 0 replays the same rows as if the bond had no adhesion (to show that
+ * the comparison sees it). Returns the worst error over the cases, each relative to its case's
+ * largest load (f1, t1, t2), and counts what the rows exercise. */
+typedef struct {
+    int rows, tensile, adhesive_slip_tensile, dropped_normal, adhesive_slip_compressive;
+    int breaks_yade, breaks_lib, break_rows_agree, tensile_moment_slip;
+} cohesion_counts;
+
+static double run_yade_cohesion(int use_adhesion, int verbose, cohesion_counts *k) {
+    csv_file c;
+    if (!csv_open(&c, "yade_cohesive.csv")) return INFINITY;
+    memset(k, 0, sizeof *k);
+    char current[128] = "";
+    rsl_model *m = NULL;
+    rsl_contact_state st;
+    int bonded = 0, was_broken = 0;
+    double worst = 0, case_err = 0, case_scale = 1e-300;
+    int more = csv_next(&c);
+    while (more) {
+        if (strcmp(current, c.fields[col(&c, "case")]) != 0) {
+            snprintf(current, sizeof current, "%s", c.fields[col(&c, "case")]);
+            rsl_model_free(m);
+            m = yade_model(&c);
+            memset(&st, 0, sizeof st);
+            bonded = 1;
+            was_broken = 0;
+            case_err = 0;
+            case_scale = 1e-300;
+        }
+        CHECK(num(&c, "unp") == 0.0); /* no normal plasticity: F_n = kn pen exactly */
+        rsl_sphere b1, b2;
+        bodies(&c, &b1, &b2);
+        rsl_contact_input ci;
+        memset(&ci, 0, sizeof ci);
+        ci.normal_force = num(&c, "kn") * num(&c, "pen");
+        ci.dt = num(&c, "dt");
+        ci.flags = RSL_INPUT_SLIDING_STIFFNESS;
+        ci.sliding_stiffness = num(&c, "ks");
+        if (bonded && use_adhesion) {
+            ci.flags |= RSL_INPUT_SHEAR_ADHESION;
+            ci.shear_adhesion = num(&c, "param_sadh");
+            if (num(&c, "param_fragile") != 0.0) ci.flags |= RSL_INPUT_FRAGILE_BOND;
+        }
+        rsl_contact_loads out;
+        CHECK_STATUS(rsl_contact_step(m, &b1, &b2, &ci, &st, &out), RSL_OK);
+        CHECK(st.slip_flags == out.slip_flags);
+        int lib_break = (out.slip_flags & RSL_SLIP_BOND_BROKEN) != 0;
+        int yade_break = num(&c, "coh_broken") != 0.0 && !was_broken;
+        was_broken = num(&c, "coh_broken") != 0.0;
+        k->breaks_yade += yade_break;
+        k->breaks_lib += lib_break;
+        k->break_rows_agree += yade_break && lib_break;
+        if (lib_break) bonded = 0; /* the host drops the bond's adhesions from now on */
+        rsl_vec3 want[3] = {vec(&c, "f1"), vec(&c, "t1"), vec(&c, "t2")};
+        rsl_vec3 got[3] = {out.force1, out.torque1, out.torque2};
+        double row_err = 0;
+        for (int j = 0; j < 3; j++) {
+            case_scale = fmax(case_scale, amax(want[j]));
+            row_err = fmax(row_err, diff(got[j], want[j]));
+        }
+        case_err = fmax(case_err, row_err);
+        /* what the row exercises (YADE's own columns) */
+        rsl_vec3 fn = vec(&c, "fn"), n = vec(&c, "n");
+        int slipping = (out.slip_flags & RSL_SLIP_SLIDING) != 0;
+        k->rows++;
+        if (ci.normal_force < 0) {
+            k->tensile++;
+            if (slipping && bonded) k->adhesive_slip_tensile++;
+            if (dot(fn, n) == 0.0) k->dropped_normal++;
+            if (!slipping && (out.slip_flags & (RSL_SLIP_ROLLING | RSL_SLIP_TWISTING))) k->tensile_moment_slip++;
+        } else if (slipping && (bonded || lib_break)) {
+            k->adhesive_slip_compressive++;
+        }
+        more = csv_next(&c);
+        if (!more || strcmp(current, c.fields[col(&c, "case")]) != 0) {
+            double rel = case_err / case_scale;
+            if (verbose) printf("  %-24s %.2e\n", current, rel);
+            worst = fmax(worst, rel);
+        }
+    }
+    rsl_model_free(m);
+    fclose(c.f);
+    return worst;
+}
+
+/* YADE 2023.02a CohFrict bonds with normal and shear cohesion, through the C ABI: tension with
+ * rolling and twisting limited at maxRollPl |F_n| and maxTwistPl |F_n|, the sliding limit
+ * shearAdhesion + F_n tan(phi) reached under tension (where YADE then applies no normal force and
+ * zero moment limits), and a fragile bond breaking in compression (the same step re-clipped at
+ * F_n tan(phi), friction only afterwards). Tolerance 1e-11 of the case's largest load, as for
+ * yade_preset_matches_yade (same formulas evaluated in double by both; any rule difference moves
+ * the loads by far more). The replay without the adhesion must miss YADE by more than 1e-2. */
+void test_yade_cohesion_matches_yade(void) {
+    cohesion_counts k;
+    printf("YADE_2023 preset with cohesion vs YADE double, per case:\n");
+    double worst = run_yade_cohesion(1, 1, &k);
+    printf("worst %.2e; rows %d, tensile %d (adhesive slip %d, normal force dropped %d, moment "
+           "slip %d), adhesive slip in compression %d, breaks %d (YADE %d, same row %d)\n",
+           worst, k.rows, k.tensile, k.adhesive_slip_tensile, k.dropped_normal,
+           k.tensile_moment_slip, k.adhesive_slip_compressive, k.breaks_lib, k.breaks_yade,
+           k.break_rows_agree);
+    CHECK(worst < 1e-11);
+    CHECK(k.rows == 370);
+    CHECK(k.tensile >= 80);
+    CHECK(k.adhesive_slip_tensile >= 20);
+    CHECK(k.dropped_normal == k.adhesive_slip_tensile);
+    CHECK(k.tensile_moment_slip >= 10);
+    CHECK(k.adhesive_slip_compressive >= 1);
+    CHECK(k.breaks_yade == 1 && k.breaks_lib == 1 && k.break_rows_agree == 1);
+    cohesion_counts none;
+    double without = run_yade_cohesion(0, 0, &none);
+    printf("the same replay without the adhesion: worst %.2e\n", without);
+    CHECK(without > 1e-2);
+}

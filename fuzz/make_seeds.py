@@ -36,9 +36,11 @@ OPTS_DEFAULT = i32(0, 0) + u32(63)
 OPTS_RADII = i32(1, 1) + u32(63)
 OPTS_SOME = i32(0, 0) + u32(4 | 8)
 
-# rsl_contact_input: 17 doubles then flags, reserved
-INPUT = d(10.0, 1e-3, 1e4, 0.05, 1.0, 2.0, 0.1, 0.2, 900, 0.4, 9, 80, 0.2, 0.2, 40, 0.01, 0.03) + u32(0, 0)
+# rsl_contact_input: 18 doubles (the last, shear_adhesion, since 0.2.0) then flags, reserved
+INPUT = d(10.0, 1e-3, 1e4, 0.05, 1.0, 2.0, 0.1, 0.2, 900, 0.4, 9, 80, 0.2, 0.2, 40, 0.01, 0.03, 3.0) + u32(0, 0)
 INPUT_OVR = INPUT[:-8] + u32(1 | 2 | 8 | 16 | 32 | 64 | 128 | 256 | 512, 0)
+# a fragile bond (shear adhesion 3, fragile) under tension, no other override
+INPUT_BOND = d(-2.0, 1e-3, 1e4, 0.05, 1.0, 2.0, 0.1, 0.2, 900, 0.4, 9, 80, 0.2, 0.2, 40, 0.01, 0.03, 3.0) + u32(1024 | 2048, 0)
 
 # model ops (see model_from in common.rs): preset byte, op count, then per op a selector byte
 # and its fields; param(): a selector byte (0..4 fixed values, 5..7 then 8 raw bytes)
@@ -93,6 +95,7 @@ for name, m in MODELS.items():
         steps = b(3)
         SEEDS["contact_step"][tag] = m + state + steps + (CASE6_1 + CASE6_2 + INPUT_OVR) * 3
         SEEDS["contact_step_wall"][tag] = m + state + steps + (BALL + WALL + INPUT) * 3
+    SEEDS["contact_step"][name + "_bond"] = m + b(0) + b(3) + (CASE6_1 + CASE6_2 + INPUT_BOND) * 3
 
 for target, seeds in SEEDS.items():
     folder = os.path.join(HERE, "corpus", target)

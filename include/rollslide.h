@@ -5,6 +5,10 @@
  * Conventions: n points from body 1 to body 2; rates are body 1 relative to body 2; loads are
  * on body 1 unless named otherwise. Every fallible function returns an int32_t status
  * (RSL_OK = 0) and writes its outputs only on success.
+ *
+ * ABI: 0.2.0 breaks 0.1's. rsl_contact_input grew by 8 bytes (shear_adhesion, before flags):
+ * rebuild against this header. The shared library's SONAME carries the minor version while the
+ * major is 0 (librollslide.so.0.2), so a program built against 0.1 does not load it.
  */
 
 #ifndef ROLLSLIDE_H
@@ -111,6 +115,29 @@
 // Input flag: use `twisting_friction` (mu_tw, a length) for this contact (sds).
 #define RSL_INPUT_TWISTING_FRICTION 512
 
+// Input flag: the contact is a cohesive bond with shear adhesion
+// `rsl_contact_input.shear_adhesion` (a force, at least 0): the sliding limit becomes
+// `max(0, shear_adhesion + mu F)`, `mu` the model's sliding friction. `F` is `limit_force`
+// with `RSL_INPUT_LIMIT_FORCE`; else, for YADE_2023, the signed `normal_force` (YADE 2023.02a
+// CohFrict's `shearAdhesion + Fn tan(phi)`, lowered by tension), and for the other presets
+// the force their limits use (`max(f_n, 0)` objective, `|f_n|` LAMMPS_2021 and LIGGGHTS_3_8).
+// With YADE_2023 and without `RSL_INPUT_LIMIT_FORCE`, as CohFrict does: the rolling and
+// twisting limits use `|f_n|` (also under tension), and in a step where the sliding limit is
+// reached while `f_n < 0` the normal force is not applied (`force1` has no normal part) and
+// the rolling and twisting limits are 0. The other limits are unchanged. The normal law is the
+// host's (CohFrict: `kn (un - unp)`, its normal plasticity at `-normalAdhesion`, and the end of
+// the contact when a fragile bond pulls harder than `normalAdhesion`). Not covered: CohFrict's
+// `cohesionDisablesFriction` (sliding limit `shearAdhesion` alone).
+#define RSL_INPUT_SHEAR_ADHESION 1024
+
+// Input flag (only with `RSL_INPUT_SHEAR_ADHESION`): the bond is fragile (YADE's `fragile`).
+// When the trial sliding load exceeds the adhesive limit, the bond breaks in this step: the
+// limit is recomputed without the adhesion (`mu F`, the limit without
+// `RSL_INPUT_SHEAR_ADHESION`) and the trial is clipped to it, and `RSL_SLIP_BOND_BROKEN` is
+// reported. The host then drops the bond's adhesions (its normal one included) for every later
+// step of this contact: it clears both flags. The library keeps no bond state.
+#define RSL_INPUT_FRAGILE_BOND 2048
+
 // Slip flag: the sliding limit was reached this step.
 #define RSL_SLIP_SLIDING 1
 
@@ -119,6 +146,10 @@
 
 // Slip flag: the twisting limit was reached this step.
 #define RSL_SLIP_TWISTING 4
+
+// Slip flag: a fragile bond (`RSL_INPUT_FRAGILE_BOND`) broke this step (with
+// `RSL_SLIP_SLIDING`); step the contact without its adhesion from now on.
+#define RSL_SLIP_BOND_BROKEN 8
 
 // Branch rule `midplane`: `l_k = R_k - delta/2` (default; objective sliding).
 #define RSL_BRANCH_MIDPLANE 0
@@ -288,14 +319,14 @@
 #define RSL_VERSION_MAJOR 0
 
 // Minor version of the header.
-#define RSL_VERSION_MINOR 1
+#define RSL_VERSION_MINOR 2
 
 // Patch version of the header.
 #define RSL_VERSION_PATCH 0
 
 // The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
-// PATCH` (0.1.0 is 100): `#if RSL_VERSION_NUMBER >= 100`.
-#define RSL_VERSION_NUMBER 100
+// PATCH` (0.2.0 is 200): `#if RSL_VERSION_NUMBER >= 200`.
+#define RSL_VERSION_NUMBER 200
 
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
@@ -497,6 +528,11 @@ typedef struct rsl_contact_input {
   // Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no
   // limit, even at zero force).
   double twisting_friction;
+  // Shear adhesion of a cohesive bond (force, >= 0; +INFINITY: no sliding limit while
+  // bonded), with `RSL_INPUT_SHEAR_ADHESION`: added to the sliding limit (see the flag). YADE
+  // CohFrict: the contact's `shearAdhesion`, `shearCohesion min(R1, R2)^2`. Added in 0.2.0
+  // (the struct grew by 8 bytes).
+  double shear_adhesion;
   // OR of `RSL_INPUT_*`.
   uint32_t flags;
   // Padding; keep 0.
@@ -691,6 +727,70 @@ int32_t rsl_batch_step(const struct rsl_model *model,
                        struct rsl_vec3 *force,
                        struct rsl_vec3 *torque,
                        struct rsl_batch_report *report);
+
+// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`: 7 when
+// neither transport reads the previous normal (`RSL_TRANSPORT_PROJECT_RESCALE`,
+// `RSL_TRANSPORT_PROJECT`, `RSL_TRANSPORT_NONE`: the LAMMPS_2021 and LIGGGHTS_3_8 presets),
+// 10 when one does (`RSL_TRANSPORT_EXACT`, `RSL_TRANSPORT_FIRST_ORDER`: the objective
+// default), 13 with the YADE_2023 preset (which keeps its twisting moment as a vector). The
+// record holds, in this order: the sliding spring (3), the rolling spring (3), the twisting
+// angle, then with 10 or 13 words the previous normal (3), then with 13 the twisting off-axis
+// part (3): the fields of `rsl_contact_state` with the same meaning, those the model's step
+// reads. The size follows the model's preset and transports: changing them may change it.
+// Writes `*words` on success.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// `model` must be a live model; `words` NULL or writable.
+int32_t rsl_model_history_size(const struct rsl_model *model, size_t *words);
+
+// Packs `state` into `model`'s history record (`rsl_model_history_size` doubles written to
+// `history`; the state's other fields and its slip flags are dropped). With
+// `rsl_history_to_state`, a host can move a contact between `rsl_contact_step` and
+// `rsl_batch_step_history`.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// `model` must be a live model; `state` readable; `history` NULL or writable for the
+// record's doubles.
+int32_t rsl_history_from_state(const struct rsl_model *model,
+                               const struct rsl_contact_state *state,
+                               double *history);
+
+// Unpacks `model`'s history record (`rsl_model_history_size` doubles) into `state`: the
+// record's fields are copied, the others (the previous normal and the twisting off-axis part
+// when the record does not keep them, the slip flags) are set to zero.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// `model` must be a live model; `history` readable for the record's doubles; `state` NULL or
+// writable.
+int32_t rsl_history_to_state(const struct rsl_model *model,
+                             const double *history,
+                             struct rsl_contact_state *state);
+
+// As `rsl_batch_step`, with each contact's history packed: `history` holds
+// `n_contacts * rsl_model_history_size(model)` doubles, contact `c`'s record at
+// `history + c * size` (see `rsl_model_history_size` for its layout; `rsl_history_from_state`
+// packs a `rsl_contact_state`). The records keep only what the step reads, so there is less
+// memory to move: for the LAMMPS_2021 preset 56 bytes per contact instead of the 112 of a
+// `rsl_contact_state`, and the step takes about a tenth less time (docs/performance.md).
+// Slip flags are not kept. Everything else (physics, validation, skipping, report, the order
+// of the additions) is that of `rsl_batch_step`, whose loads and new histories this call
+// reproduces bit for bit in double precision (with the state's other fields zero).
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// As `rsl_batch_step`, with `history` in place of `states` (`n_contacts` records).
+int32_t rsl_batch_step_history(const struct rsl_model *model,
+                               const struct rsl_sphere *particles,
+                               size_t n_particles,
+                               const uint32_t *pairs,
+                               size_t n_contacts,
+                               const double *normal_force,
+                               const double *normal_stiffness,
+                               double dt,
+                               const struct rsl_batch_options *options,
+                               double *history,
+                               struct rsl_vec3 *force,
+                               struct rsl_vec3 *torque,
+                               struct rsl_batch_report *report);
 
 // Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
 // `normal_force[c]`, `states[c]`, and its loads are **written** to `out[c]`. No two contacts

@@ -4,10 +4,12 @@
 mod common;
 
 use common::{full_model, scene_models, Rng};
+use rollslide::batch::history::{history_words, words_from_state};
 use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene};
 use rollslide::capi::batch::rsl_batch_loads;
-use rollslide::capi::batch::{run_decompose, run_step, BatchConfig, Simd};
+use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use rollslide::capi::contact::rsl_contact_state;
+use rollslide::capi::history::Record;
 use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use rollslide::decompose::{decompose_pair, Parts, Sphere};
 use rollslide::error::Error;
@@ -125,6 +127,9 @@ fn scenario(np: usize, nc: usize, seed: u64) -> Scenario {
                 let r = rng.vec(1e-5);
                 s.rolling_spring = v(r - n * r.dot(&n));
                 s.twisting_angle = rng.uniform(-1e-3, 1e-3);
+                // YADE's off-axis twisting moment (the other models pass it through).
+                let o = rng.vec(1e-6);
+                s.twisting_offaxis = v(o - n * o.dot(&n));
             }
             s
         })
@@ -707,5 +712,126 @@ fn underflowing_centre_distance_is_refused_in_every_kernel() {
         ));
         assert_eq!(states[tiny], sc.states[tiny]);
         assert_eq!(report.processed, sc.pairs.len() - 1);
+    }
+}
+
+/// The particle-major call on packed histories (`rsl_batch_step_history`'s kernels) against the
+/// call on full states, with the fields a record does not keep set to zero: the same report,
+/// and bit for bit the same loads and new record words, for every model, precision, SIMD level
+/// and scene kernel (the records fill the block's rows with exactly the values the states do).
+/// A non-finite word in a record is skipped as in a state.
+#[test]
+fn packed_histories_step_as_full_states() {
+    let dt = 1e-4;
+    let mut layouts = std::collections::BTreeSet::new();
+    for (model, scene) in models() {
+        let words = history_words(&model);
+        layouts.insert(words);
+        let mut sc = scenario(40, 150, 21);
+        sc.states[7].rolling_spring.x = f64::NAN;
+        sc.states[30].twisting_angle = f64::INFINITY;
+        if words < 13 {
+            sc.states[60].twisting_offaxis.y = f64::NAN;
+        }
+        for s in sc.states.iter_mut() {
+            if words < 13 {
+                s.twisting_offaxis = rsl_vec3::default();
+            }
+            if words < 10 {
+                s.previous_normal = rsl_vec3::default();
+            }
+        }
+        for config in configs() {
+            let np = sc.particles.len();
+            let mut states = sc.states.clone();
+            let (mut force, mut torque) =
+                (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+            let mut access = ParticleSteps {
+                particles: &sc.particles,
+                pairs: &sc.pairs,
+                normal_force: &sc.normal_force,
+                normal_stiffness: None,
+                states: &mut states,
+                force: &mut force,
+                torque: &mut torque,
+            };
+            let (full, full_scene) = run_step(&model, dt, &mut access, config).unwrap();
+            let packed = match words {
+                7 => step_packed::<7>(&model, dt, &sc, config),
+                10 => step_packed::<10>(&model, dt, &sc, config),
+                _ => step_packed::<13>(&model, dt, &sc, config),
+            };
+            let what = format!("{scene:?} {config:?}");
+            assert_eq!(
+                format!("{:?}", packed.report),
+                format!("{full:?}"),
+                "{what}"
+            );
+            assert_eq!(full.failed, 2, "{what}: contacts 7 and 30 skipped");
+            assert_eq!(packed.scene, full_scene, "{what}");
+            let bits = |v: &[rsl_vec3]| -> Vec<[u64; 3]> {
+                v.iter()
+                    .map(|v| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
+                    .collect()
+            };
+            assert_eq!(bits(&packed.force), bits(&force), "{what}: forces");
+            assert_eq!(bits(&packed.torque), bits(&torque), "{what}: torques");
+            for (c, record) in packed.records.iter().enumerate() {
+                let mut expected = vec![0.0; words];
+                assert!(words_from_state(
+                    &ContactState::from(&states[c]),
+                    &mut expected
+                ));
+                let b = |r: &[f64]| r.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                assert_eq!(b(record), b(&expected), "{what}: record {c}");
+            }
+        }
+    }
+    assert_eq!(
+        layouts.into_iter().collect::<Vec<_>>(),
+        [7, 10, 13],
+        "every record size is tested"
+    );
+}
+
+/// What [`step_packed`] returns.
+struct Packed {
+    report: rollslide::batch::BatchReport,
+    scene: Scene,
+    force: Vec<rsl_vec3>,
+    torque: Vec<rsl_vec3>,
+    records: Vec<Vec<f64>>,
+}
+
+/// Steps `sc` with its states packed into `W`-word records.
+fn step_packed<const W: usize>(
+    model: &Model,
+    dt: f64,
+    sc: &Scenario,
+    config: BatchConfig,
+) -> Packed {
+    let np = sc.particles.len();
+    let mut records: Vec<Record<W>> = sc
+        .states
+        .iter()
+        .map(|s| Record::from_state(&ContactState::from(s)))
+        .collect();
+    let (mut force, mut torque) = (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+    let mut access = ParticleSteps {
+        particles: &sc.particles,
+        pairs: &sc.pairs,
+        normal_force: &sc.normal_force,
+        normal_stiffness: None,
+        states: &mut records,
+        force: &mut force,
+        torque: &mut torque,
+    };
+    let (report, scene) = run_history_step(model, dt, &mut access, config).unwrap();
+    Packed {
+        report,
+        scene,
+        force,
+        torque,
+        records: records.iter().map(|r| r.0.to_vec()).collect(),
     }
 }

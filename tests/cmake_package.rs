@@ -165,7 +165,12 @@ fn cmake_build_ctest_install_examples_and_pkg_config() {
     let version = env!("CARGO_PKG_VERSION");
     let major = env!("CARGO_PKG_VERSION_MAJOR");
     let real = format!("librollslide.so.{version}");
-    let soname = format!("librollslide.so.{major}");
+    // 0.x: every minor release may break the ABI, so the SONAME carries it (CMakeLists.txt).
+    let soname = if major == "0" {
+        format!("librollslide.so.0.{}", env!("CARGO_PKG_VERSION_MINOR"))
+    } else {
+        format!("librollslide.so.{major}")
+    };
     assert_eq!(
         std::fs::read_link(lib.join(&soname)).unwrap(),
         Path::new(&real)

@@ -170,6 +170,68 @@ def contact_point(c):
     return c
 
 
+def cohesive(name, r1, r2, fragile, segments, normal_cohesion=200.0, shear_cohesion=30.0):
+    """A CohFrict case with normal and shear cohesion (CohFrictMat isCohesive=True,
+    Ip2 setCohesionOnNewContacts=True): normalAdhesion = normalCohesion min(R1,R2)^2 and
+    shearAdhesion = shearCohesion min(R1,R2)^2 (Ip2_CohFrictMat_CohFrictMat_CohFrictPhys)."""
+    c = base_case(name, 'cohfrict', r1, r2, '')
+    c['cohesion'] = dict(normalCohesion=normal_cohesion, shearCohesion=shear_cohesion, fragile=fragile)
+    c['segments'] = segments
+    return c
+
+
+def cohesive_cases():
+    """CohFrict with cohesion: kn = 1e5, ks = 3e4 (R1 = R2 = 1), overlap 1e-3 (F_n = 100),
+    normalAdhesion 200 and shearAdhesion 30 (min R = 1). The radial rate moves the overlap by
+    1.5e-3 in 40 steps (F_n from 100 to -50, never beyond -normalAdhesion: no normal plasticity,
+    no tensile break)."""
+    dt = DT
+    radial = 1.5e-3 / (40 * dt)
+    w_slide = 0.03  # |2 w| dt ks = 1.8 of shear force per step
+    w_gear = 0.02   # gear: k_r 2 w dt = 0.6 of rolling moment per step
+    w_twist = 0.02
+
+    def seg(steps, radial_rate=0.0, slide=0.0, gear=0.0, twist=0.0, ratio=1.0):
+        # gear: w1 = gear T1, w2 = -ratio gear T1 (ratio R1/R2: no sliding from the gear)
+        s = dict(steps=steps)
+        w1 = add(sc(slide, T2), sc(gear, T1), sc(twist, N))
+        w2 = add(sc(slide, T2), sc(-ratio * gear, T1), sc(-twist, N))
+        if any(w1):
+            s['w1'] = w1
+        if any(w2):
+            s['w2'] = w2
+        if radial_rate:
+            s['radial'] = radial_rate
+        return s
+    tension = cohesive(
+        'coh_adh_tension_slide', 1.0, 1.0, False,
+        [seg(40, radial, gear=w_gear, twist=w_twist),          # into tension, rolling and twisting on |F_n|
+         seg(40, 0.0, slide=w_slide, gear=w_gear),              # slides at 30 + F_n tan(phi) in tension
+         seg(40, -radial, slide=-w_slide, gear=-w_gear, twist=-w_twist),  # back to compression, reversed
+         seg(15)])
+    tension['note'] = ('not fragile: tension to F_n = -50 with rolling and twisting, sliding limit '
+                       'shearAdhesion + F_n tan(phi) reached in tension, back to compression')
+    # kn = 1.2e5 here; F_n from 120 to -36: the adhesive limit 30 + F_n tan(phi) stays above 10 (at
+    # F_n < -30/tan(phi) it would be 0, and a fragile bond would break on the rounding of a zero
+    # shear force)
+    r = 1.0 / 1.5
+    radial_f = 1.3e-3 / (40 * dt)
+    fragile = cohesive(
+        'coh_adh_fragile_break', 1.0, 1.5, True,
+        [seg(40, radial_f, gear=w_gear, twist=w_twist, ratio=r),    # into tension (no sliding: bonded)
+         seg(40, -radial_f, gear=-w_gear, twist=-w_twist, ratio=r),  # back to F_n = 120
+         seg(70, 0.0, slide=w_slide, gear=w_gear, ratio=r),        # 30 + 54.6 exceeded: the bond breaks
+         seg(70, 0.0, slide=-w_slide, gear=-w_gear, ratio=r),      # frictional only, reversed
+         seg(15)])
+    fragile['note'] = ('fragile: tension and back with rolling and twisting, then sliding past '
+                       'shearAdhesion + F_n tan(phi) in compression: the bond breaks, friction only after')
+    cases = [tension, fragile]
+    for c in cases:
+        del c['_lim'], c['_delta']
+        c['nsteps'] = sum(s['steps'] for s in c['segments'])
+    return cases
+
+
 def main():
     cases = [
         gear('coh_gear_eq', 'cohfrict', 1.0, 1.0),
@@ -216,6 +278,17 @@ def main():
         json.dump(out, f, indent=1)
         f.write('\n')
     print('wrote', path, 'cases', len(cases), 'rows', sum(c['nsteps'] for c in cases))
+    coh = cohesive_cases()
+    out = dict(
+        description='rollslide YADE reference cases with CohFrict cohesion; read by yade_reference.py '
+                    '(same keys as cases.json, plus cohesion: normalCohesion, shearCohesion, fragile '
+                    'of the CohFrictMat, isCohesive=True, Ip2 setCohesionOnNewContacts=True).',
+        cases=coh)
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'cohesive_cases.json')
+    with open(path, 'w') as f:
+        json.dump(out, f, indent=1)
+        f.write('\n')
+    print('wrote', path, 'cases', len(coh), 'rows', sum(c['nsteps'] for c in coh))
 
 
 if __name__ == '__main__':

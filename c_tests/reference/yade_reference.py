@@ -1,9 +1,11 @@
 # YADE script: per-step contact kinematics and loads of two imposed-motion spheres.
 #
-#   yade -n -x c_tests/reference/yade_reference.py OUT.csv
+#   yade -n -x c_tests/reference/yade_reference.py OUT.csv [CASES.json]
 #
-# Reads cases.json beside this file, runs every case in a fresh scene and writes one CSV
-# (columns documented in README.md). Runs headless; needs no display.
+# Reads CASES.json (default cases.json beside this file), runs every case in a fresh scene and
+# writes one CSV (columns documented in README.md). Cases with a `cohesion` key (those of
+# cohesive_cases.json) get cohesive CohFrict materials; a CSV with any of them has the
+# cohesion columns COH_COLUMNS appended. Runs headless; needs no display.
 # Written for Debian's yade 2023.02a (double precision).
 import json
 import math
@@ -29,6 +31,8 @@ COLUMNS = (['case', 'step', 'law', 'dt', 'r1', 'r2']
            + ['shearinc_' + c for c in 'xyz']
            + ['kn', 'ks']
            + [v + '_' + c for v in ['fn', 'fs', 'mb', 'mt', 'f1', 'f2', 't1', 't2'] for c in 'xyz'])
+# cohesive cases only: the adhesions CohFrictPhys got at creation (param_*) and after the step
+COH_COLUMNS = ['param_fragile', 'param_nadh', 'param_sadh', 'unp', 'nadh', 'sadh', 'coh_broken']
 
 
 def v3(v):
@@ -61,7 +65,18 @@ def setup(case):
     O.reset()
     law = case['law']
     m = case['material']
-    if law == 'cohfrict':
+    coh = case.get('cohesion')
+    if law == 'cohfrict' and coh:
+        # cohesive: normalAdhesion = normalCohesion min(R)^2, shearAdhesion likewise, set when
+        # the interaction is created; fragile bonds break for good when the shear limit is exceeded
+        mat = CohFrictMat(young=m['young'], poisson=m['poisson'], frictionAngle=m['frictionAngle'],
+                          alphaKr=m['alphaKr'], alphaKtw=m['alphaKtw'], etaRoll=m['etaRoll'],
+                          etaTwist=m['etaTwist'], momentRotationLaw=True, isCohesive=True,
+                          normalCohesion=coh['normalCohesion'], shearCohesion=coh['shearCohesion'],
+                          fragile=coh['fragile'])
+        ip2 = Ip2_CohFrictMat_CohFrictMat_CohFrictPhys(setCohesionOnNewContacts=True)
+        law2 = Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True, always_use_moment_law=True)
+    elif law == 'cohfrict':
         mat = CohFrictMat(young=m['young'], poisson=m['poisson'], frictionAngle=m['frictionAngle'],
                           alphaKr=m['alphaKr'], alphaKtw=m['alphaKtw'], etaRoll=m['etaRoll'],
                           etaTwist=m['etaTwist'], momentRotationLaw=True, isCohesive=False)
@@ -121,8 +136,9 @@ def velocities(seg, x1, x2, dt):
     return v1, v2, w1, w2
 
 
-def run_case(case, out):
+def run_case(case, out, cohesive_columns):
     setup(case)
+    initial = None
     law = case['law']
     dt = case['dt']
     b1, b2 = O.bodies[0], O.bodies[1]
@@ -171,22 +187,32 @@ def run_case(case, out):
             for v in (v3(p.normalForce), v3(p.shearForce), mb, mt,
                       v3(O.forces.f(0)), v3(O.forces.f(1)), v3(O.forces.t(0)), v3(O.forces.t(1))):
                 row += [repr(c) for c in v]
-            assert len(row) == len(COLUMNS)
+            if cohesive_columns:
+                if initial is None:
+                    # the adhesions the Ip2 gave the new interaction (step 0 does not break it)
+                    assert not p.cohesionBroken, case['name']
+                    initial = (float(p.normalAdhesion), float(p.shearAdhesion))
+                row += [repr(1.0 if p.fragile else 0.0), repr(initial[0]), repr(initial[1]),
+                        repr(float(p.unp)), repr(float(p.normalAdhesion)), repr(float(p.shearAdhesion)),
+                        repr(1.0 if p.cohesionBroken else 0.0)]
+            assert len(row) == len(COLUMNS) + (len(COH_COLUMNS) if cohesive_columns else 0)
             out.write(','.join(row) + '\n')
             step += 1
 
 
 def main():
     args = sys.argv[1:]
-    if len(args) != 1:
-        raise SystemExit('usage: yade -n -x yade_reference.py OUT.csv')
-    outpath = args[-1]
-    with open(os.path.join(HERE, 'cases.json')) as f:
+    if len(args) not in (1, 2):
+        raise SystemExit('usage: yade -n -x yade_reference.py OUT.csv [CASES.json]')
+    outpath = args[0]
+    casespath = args[1] if len(args) == 2 else os.path.join(HERE, 'cases.json')
+    with open(casespath) as f:
         cases = json.load(f)['cases']
+    cohesive_columns = any('cohesion' in c for c in cases)
     with open(outpath, 'w') as out:
-        out.write(','.join(COLUMNS) + '\n')
+        out.write(','.join(COLUMNS + (COH_COLUMNS if cohesive_columns else [])) + '\n')
         for case in cases:
-            run_case(case, out)
+            run_case(case, out, cohesive_columns)
     print('yade_reference: wrote %s (%d cases, yade %s)' % (outpath, len(cases), yade.config.version))
 
 

@@ -26,6 +26,7 @@
 //! for it.
 
 pub mod block;
+pub mod history;
 pub mod lanes;
 pub mod scene;
 

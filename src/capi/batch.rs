@@ -17,15 +17,22 @@
 
 use super::contact::rsl_contact_state;
 use super::decompose::{parse_options, rsl_decompose_options};
+use super::history::Record;
 use super::model::{live_model, rsl_model};
 use super::status::FfiError;
+#[cfg(target_arch = "x86_64")]
+use super::transpose::{Avx2Copy, Avx512Copy};
 use super::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use super::{guard, optional_input, output};
+use crate::batch::history::{
+    history_words, state_from_words as history_state_from_words, words_from_state, SPRINGS_ONLY,
+    WITH_NORMAL, WITH_OFFAXIS,
+};
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactSteps, DecomposeAccess, DecompositionSlot,
-    LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, Scene, SphereSlot,
-    StateSlot, StepAccess,
+    GroupCopy, LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, Scene,
+    SphereSlot, StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
 use crate::error::Error;
@@ -134,7 +141,7 @@ pub struct rsl_batch_loads {
 /// at 1M contacts with an earlier kernel: into L2 51 ns/contact, into L1 (`T0`) 69: the lines
 /// of 48 contacts ahead crowd L1.
 #[inline(always)]
-fn prefetch<T>(p: &T) {
+pub(crate) fn prefetch<T>(p: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: PREFETCHT1 is a hint: it never faults and changes no architectural state; the
     // address comes from a live reference anyway.
@@ -344,10 +351,50 @@ impl BatchConfig {
 
 // The kernels, one function per (precision, SIMD level); `S` is the scene code.
 
-/// What the step kernels read and write: the C structs.
-pub trait CAccess: StepAccess<P = rsl_sphere, State = rsl_contact_state> {}
+/// A state type the C kernels step: the C struct `rsl_contact_state`, or a packed history
+/// record ([`Record`]), with the copiers that move its groups between memory and the block.
+pub trait CState: StateSlot + Sized {
+    /// The AVX2 copier.
+    #[cfg(target_arch = "x86_64")]
+    type Avx2: GroupCopy<rsl_sphere, Self>;
+    /// The AVX-512 copier.
+    #[cfg(target_arch = "x86_64")]
+    type Avx512: GroupCopy<rsl_sphere, Self>;
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    unsafe fn avx2() -> Self::Avx2;
+    /// # Safety
+    /// The CPU must have AVX-512 F and DQ, and AVX2.
+    #[cfg(target_arch = "x86_64")]
+    unsafe fn avx512() -> Self::Avx512;
+}
 
-impl<A: StepAccess<P = rsl_sphere, State = rsl_contact_state>> CAccess for A {}
+#[cfg(target_arch = "x86_64")]
+impl<S: StateSlot> CState for S
+where
+    Avx2Copy: GroupCopy<rsl_sphere, S>,
+    Avx512Copy: GroupCopy<rsl_sphere, S>,
+{
+    type Avx2 = Avx2Copy;
+    type Avx512 = Avx512Copy;
+    unsafe fn avx2() -> Avx2Copy {
+        // SAFETY: the caller's contract is `Avx2Copy::assume`'s.
+        unsafe { Avx2Copy::assume() }
+    }
+    unsafe fn avx512() -> Avx512Copy {
+        // SAFETY: the caller's contract covers `Avx512Copy::assume`'s.
+        unsafe { Avx512Copy::assume() }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+impl<S: StateSlot> CState for S {}
+
+/// What the step kernels read and write: the C sphere struct and a [`CState`].
+pub trait CAccess: StepAccess<P = rsl_sphere, State: CState> {}
+
+impl<A: StepAccess<P = rsl_sphere, State: CState>> CAccess for A {}
 
 fn scalar_f64<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
     step_kernel::<f64, S, A, _>(m, dt, a, PortableCopy)
@@ -361,7 +408,6 @@ fn scalar_f32<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchRe
 mod x86 {
     use super::*;
     use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4, F64x8};
-    use crate::capi::transpose::{Avx2Copy, Avx512Copy};
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
@@ -375,7 +421,7 @@ mod x86 {
         // (workload A, 1.2M contacts, full LAMMPS set: 55.3 against 55.2 ns per contact) with
         // twice the register pressure.
         // SAFETY: the caller guarantees AVX2.
-        step_kernel::<F64x4, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
+        step_kernel::<F64x4, S, A, _>(m, dt, a, unsafe { A::State::avx2() })
     }
 
     /// # Safety
@@ -387,7 +433,7 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         // SAFETY: the caller guarantees AVX2.
-        step_kernel::<F32x8N, S, A, _>(m, dt, a, unsafe { Avx2Copy::assume() })
+        step_kernel::<F32x8N, S, A, _>(m, dt, a, unsafe { A::State::avx2() })
     }
 
     /// # Safety
@@ -398,8 +444,8 @@ mod x86 {
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        // SAFETY: the caller guarantees AVX-512 F/DQ.
-        step_kernel::<F64x8, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
+        // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
+        step_kernel::<F64x8, S, A, _>(m, dt, a, unsafe { A::State::avx512() })
     }
 
     /// # Safety
@@ -410,8 +456,8 @@ mod x86 {
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        // SAFETY: the caller guarantees AVX-512 F/DQ.
-        step_kernel::<F32x8W, S, A, _>(m, dt, a, unsafe { Avx512Copy::assume() })
+        // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
+        step_kernel::<F32x8W, S, A, _>(m, dt, a, unsafe { A::State::avx512() })
     }
 
     /// # Safety
@@ -447,21 +493,46 @@ mod x86 {
     }
 }
 
-/// Calls `$($f)::+::<scene code, A>(args)` with the scene as a compile-time constant.
+/// Calls `$f::<scene code, A>$args` with the scene as a compile-time constant: one of the
+/// listed scenes, else the generic kernel (so that only the listed scenes' kernels are
+/// compiled).
 macro_rules! by_scene {
-    ($scene:expr, $($f:ident)::+ ; $($arg:expr),*) => {
+    ($scene:expr, [$($s:ident),*], $f:ident, $args:tt) => {
         match $scene {
-            Scene::Generic => $($f)::+::<0, _>($($arg),*),
-            Scene::FullExact => $($f)::+::<1, _>($($arg),*),
-            Scene::FullLammps => $($f)::+::<2, _>($($arg),*),
-            Scene::SlidingExact => $($f)::+::<3, _>($($arg),*),
-            Scene::SlidingRollingExact => $($f)::+::<4, _>($($arg),*),
-            Scene::SlidingLammps => $($f)::+::<5, _>($($arg),*),
-            Scene::RollingTwistingLammps => $($f)::+::<6, _>($($arg),*),
-            Scene::RollingTwistingExact => $($f)::+::<7, _>($($arg),*),
+            $(Scene::$s => $f::<{ Scene::$s as u8 }, _> $args,)*
+            #[allow(unreachable_patterns)]
+            _ => $f::<0, _> $args,
         }
     };
 }
+
+/// Runs the kernel of `$config` (precision and SIMD level, checked available by the caller)
+/// for `$scene`, compiling the listed scenes' kernels.
+macro_rules! by_kernel {
+    ($config:expr, $scene:expr, $scenes:tt, $args:tt) => {
+        match ($config.simd, $config.f32) {
+            (Simd::Scalar, false) => by_scene!($scene, $scenes, scalar_f64, $args),
+            (Simd::Scalar, true) => by_scene!($scene, $scenes, scalar_f32, $args),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the caller checked `config.simd.available()`: the CPU has AVX2 and FMA.
+            (Simd::Avx2, false) => unsafe { by_scene!($scene, $scenes, avx2_f64, $args) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as above (AVX2 and FMA present).
+            (Simd::Avx2, true) => unsafe { by_scene!($scene, $scenes, avx2_f32, $args) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+            (Simd::Avx512, false) => unsafe { by_scene!($scene, $scenes, avx512_f64, $args) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as above.
+            (Simd::Avx512, true) => unsafe { by_scene!($scene, $scenes, avx512_f32, $args) },
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => unreachable!("only the scalar level is available off x86-64"),
+        }
+    };
+}
+
+#[cfg(target_arch = "x86_64")]
+use x86::{avx2_f32, avx2_f64, avx512_f32, avx512_f64};
 
 /// Steps every contact of `access` with the kernel of `config` (safe: the SIMD level is
 /// re-checked against the CPU). Returns the report and the scene that ran. The model and time
@@ -484,23 +555,70 @@ pub fn run_step<A: CAccess>(
             "SIMD level not supported by this CPU".to_string(),
         ));
     }
-    let report = match (config.simd, config.f32) {
-        (Simd::Scalar, false) => by_scene!(scene, scalar_f64; model, dt, access),
-        (Simd::Scalar, true) => by_scene!(scene, scalar_f32; model, dt, access),
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: `config.simd.available()` was checked above: the CPU has AVX2 and FMA.
-        (Simd::Avx2, false) => unsafe { by_scene!(scene, x86::avx2_f64; model, dt, access) },
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: as above (AVX2 and FMA present).
-        (Simd::Avx2, true) => unsafe { by_scene!(scene, x86::avx2_f32; model, dt, access) },
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA above.
-        (Simd::Avx512, false) => unsafe { by_scene!(scene, x86::avx512_f64; model, dt, access) },
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: as above.
-        (Simd::Avx512, true) => unsafe { by_scene!(scene, x86::avx512_f32; model, dt, access) },
-        #[cfg(not(target_arch = "x86_64"))]
-        _ => unreachable!("only the scalar level is available off x86-64"),
+    let report = by_kernel!(
+        config,
+        scene,
+        [
+            FullExact,
+            FullLammps,
+            SlidingExact,
+            SlidingRollingExact,
+            SlidingLammps,
+            RollingTwistingLammps,
+            RollingTwistingExact
+        ],
+        (model, dt, access)
+    );
+    Ok((report, scene))
+}
+
+/// As [`run_step`] for packed histories of `W` doubles ([`Record`]), which must be the model's
+/// [`history_words`] (checked). Only the scenes whose models have `W`-word histories get a
+/// specialised kernel: the LAMMPS scenes for 7 words, the objective exact-transport scenes for
+/// 10, none for 13 (the YADE preset runs the generic kernel).
+pub fn run_history_step<const W: usize, V: AddSlot>(
+    model: &Model,
+    dt: f64,
+    access: &mut ParticleSteps<'_, rsl_sphere, Record<W>, V>,
+    config: BatchConfig,
+) -> Result<(BatchReport, Scene), Error> {
+    check_batch_model(model)?;
+    check_time_step(dt)?;
+    if history_words(model) != W {
+        return Err(Error::InvalidArgument(format!(
+            "the model's history has {} words, not {W}",
+            history_words(model)
+        )));
+    }
+    let scene = if config.specialise {
+        Scene::classify(model)
+    } else {
+        Scene::Generic
+    };
+    if !config.simd.available() {
+        return Err(Error::InvalidArgument(
+            "SIMD level not supported by this CPU".to_string(),
+        ));
+    }
+    let report = match W {
+        SPRINGS_ONLY => by_kernel!(
+            config,
+            scene,
+            [FullLammps, SlidingLammps, RollingTwistingLammps],
+            (model, dt, access)
+        ),
+        WITH_NORMAL => by_kernel!(
+            config,
+            scene,
+            [
+                FullExact,
+                SlidingExact,
+                SlidingRollingExact,
+                RollingTwistingExact
+            ],
+            (model, dt, access)
+        ),
+        _ => by_kernel!(config, scene, [], (model, dt, access)),
     };
     Ok((report, scene))
 }
@@ -634,6 +752,85 @@ unsafe fn report_out<'a>(
     }
 }
 
+/// The per-contact `k_n` array of a step call: required (`n` values) when the model reads
+/// `k_n` and there are contacts, else optional (NULL gives `None`).
+///
+/// # Safety
+/// `normal_stiffness` is NULL or points to `n` readable doubles.
+unsafe fn stiffness_in<'a>(
+    m: &rsl_model,
+    normal_stiffness: *const f64,
+    n: usize,
+) -> Result<Option<&'a [f64]>, FfiError> {
+    if normal_stiffness.is_null() {
+        if needs_normal_stiffness(&m.model) && n > 0 {
+            return Err(FfiError::NullPointer(
+                "normal_stiffness (the model needs k_n)",
+            ));
+        }
+        Ok(None)
+    } else {
+        // SAFETY: forwarded contract.
+        Some(unsafe { slice_in(normal_stiffness, n, "normal_stiffness") }).transpose()
+    }
+}
+
+/// The checked arguments of a particle-major step call, but its per-contact histories.
+struct ParticleArgs<'a> {
+    model: &'a rsl_model,
+    particles: &'a [rsl_sphere],
+    pairs: &'a [[u32; 2]],
+    normal_force: &'a [f64],
+    normal_stiffness: Option<&'a [f64]>,
+    config: BatchConfig,
+    force: &'a mut [rsl_vec3],
+    torque: &'a mut [rsl_vec3],
+}
+
+/// Checks and borrows the arguments shared by `rsl_batch_step` and `rsl_batch_step_history`.
+///
+/// # Safety
+/// As those functions' contracts for these arguments.
+#[allow(clippy::too_many_arguments)]
+unsafe fn particle_args<'a>(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    options: *const rsl_batch_options,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+) -> Result<ParticleArgs<'a>, FfiError> {
+    // SAFETY: forwarded contract; every helper checks NULL and alignment; `[u32; 2]` has the
+    // size and alignment of two `u32`.
+    let (m, particles, pairs, f_n, opts, force, torque) = unsafe {
+        (
+            live_model(model)?,
+            slice_in(particles, n_particles, "particles")?,
+            slice_in(pairs as *const [u32; 2], n_contacts, "pairs")?,
+            slice_in(normal_force, n_contacts, "normal_force")?,
+            optional_input(options, "options")?,
+            slice_out(force, n_particles, "force")?,
+            slice_out(torque, n_particles, "torque")?,
+        )
+    };
+    // SAFETY: as above.
+    let k_n = unsafe { stiffness_in(m, normal_stiffness, n_contacts)? };
+    Ok(ParticleArgs {
+        model: m,
+        particles,
+        pairs,
+        normal_force: f_n,
+        normal_stiffness: k_n,
+        config: BatchConfig::from_options(opts)?,
+        force,
+        torque,
+    })
+}
+
 /// Steps many sphere-sphere contacts (particle-major). Contact `c` joins particles
 /// `pairs[2c]` (body 1) and `pairs[2c+1]` (body 2); its normal force is `normal_force[c]`
 /// (signed: compressive positive, tensile negative) and its history `states[c]`. The loads
@@ -682,42 +879,34 @@ pub unsafe extern "C" fn rsl_batch_step(
         // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
         let report = unsafe { report_out(report)? };
         let result = (|| -> Result<_, FfiError> {
-            // SAFETY: as above; `[u32; 2]` has the size and alignment of two `u32`.
-            let (m, particles, pairs, f_n, opts, states, force, torque) = unsafe {
-                (
-                    live_model(model)?,
-                    slice_in(particles, n_particles, "particles")?,
-                    slice_in(pairs as *const [u32; 2], n_contacts, "pairs")?,
-                    slice_in(normal_force, n_contacts, "normal_force")?,
-                    optional_input(options, "options")?,
-                    slice_out(states, n_contacts, "states")?,
-                    slice_out(force, n_particles, "force")?,
-                    slice_out(torque, n_particles, "torque")?,
-                )
+            // SAFETY: forwarded contract of this function.
+            let a = unsafe {
+                particle_args(
+                    model,
+                    particles,
+                    n_particles,
+                    pairs,
+                    n_contacts,
+                    normal_force,
+                    normal_stiffness,
+                    options,
+                    force,
+                    torque,
+                )?
             };
-            let k_n = if normal_stiffness.is_null() {
-                if needs_normal_stiffness(&m.model) && n_contacts > 0 {
-                    return Err(FfiError::NullPointer(
-                        "normal_stiffness (the model needs k_n)",
-                    ));
-                }
-                None
-            } else {
-                // SAFETY: as above.
-                Some(unsafe { slice_in(normal_stiffness, n_contacts, "normal_stiffness")? })
-            };
-            let config = BatchConfig::from_options(opts)?;
+            // SAFETY: as above.
+            let states = unsafe { slice_out(states, n_contacts, "states")? };
             let access = ParticleSteps {
-                particles,
-                pairs,
-                normal_force: f_n,
-                normal_stiffness: k_n,
+                particles: a.particles,
+                pairs: a.pairs,
+                normal_force: a.normal_force,
+                normal_stiffness: a.normal_stiffness,
                 states,
-                force,
-                torque,
+                force: a.force,
+                torque: a.torque,
             };
             access.check()?;
-            Ok((m, access, config))
+            Ok((a.model, access, a.config))
         })();
         match result {
             Err(e) => refuse(report, e),
@@ -726,6 +915,192 @@ pub unsafe extern "C" fn rsl_batch_step(
                 run_step(&m.model, dt, &mut access, config)
                     .map(|(b, s)| (b, s as u32, config.simd)),
             ),
+        }
+    })
+}
+
+/// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`: 7 when
+/// neither transport reads the previous normal (`RSL_TRANSPORT_PROJECT_RESCALE`,
+/// `RSL_TRANSPORT_PROJECT`, `RSL_TRANSPORT_NONE`: the LAMMPS_2021 and LIGGGHTS_3_8 presets),
+/// 10 when one does (`RSL_TRANSPORT_EXACT`, `RSL_TRANSPORT_FIRST_ORDER`: the objective
+/// default), 13 with the YADE_2023 preset (which keeps its twisting moment as a vector). The
+/// record holds, in this order: the sliding spring (3), the rolling spring (3), the twisting
+/// angle, then with 10 or 13 words the previous normal (3), then with 13 the twisting off-axis
+/// part (3): the fields of `rsl_contact_state` with the same meaning, those the model's step
+/// reads. The size follows the model's preset and transports: changing them may change it.
+/// Writes `*words` on success.
+///
+/// # Safety
+/// `model` must be a live model; `words` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_history_size(model: *const rsl_model, words: *mut usize) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract; helpers check NULL and alignment.
+        let (m, out) = unsafe { (live_model(model)?, output(words, "words")?) };
+        *out = history_words(&m.model);
+        Ok(())
+    })
+}
+
+/// Packs `state` into `model`'s history record (`rsl_model_history_size` doubles written to
+/// `history`; the state's other fields and its slip flags are dropped). With
+/// `rsl_history_to_state`, a host can move a contact between `rsl_contact_step` and
+/// `rsl_batch_step_history`.
+///
+/// # Safety
+/// `model` must be a live model; `state` readable; `history` NULL or writable for the
+/// record's doubles.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_history_from_state(
+    model: *const rsl_model,
+    state: *const rsl_contact_state,
+    history: *mut f64,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract; helpers check NULL, alignment and size.
+        let (m, state) = unsafe { (live_model(model)?, slice_in(state, 1, "state")?) };
+        let n = history_words(&m.model);
+        // SAFETY: as above: `history` holds the record's `n` doubles.
+        let out = unsafe { slice_out(history, n, "history")? };
+        words_from_state(&ContactState::from(&state[0]), out);
+        Ok(())
+    })
+}
+
+/// Unpacks `model`'s history record (`rsl_model_history_size` doubles) into `state`: the
+/// record's fields are copied, the others (the previous normal and the twisting off-axis part
+/// when the record does not keep them, the slip flags) are set to zero.
+///
+/// # Safety
+/// `model` must be a live model; `history` readable for the record's doubles; `state` NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_history_to_state(
+    model: *const rsl_model,
+    history: *const f64,
+    state: *mut rsl_contact_state,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract; helpers check NULL, alignment and size.
+        let m = unsafe { live_model(model)? };
+        let n = history_words(&m.model);
+        // SAFETY: as above.
+        let (words, out) = unsafe { (slice_in(history, n, "history")?, output(state, "state")?) };
+        let s = history_state_from_words(words).ok_or(FfiError::Core(Error::InvalidArgument(
+            "a history record of an unknown size".to_string(),
+        )))?;
+        *out = rsl_contact_state::default();
+        StateSlot::store(out, &s, 0);
+        Ok(())
+    })
+}
+
+/// As `rsl_batch_step`, with each contact's history packed: `history` holds
+/// `n_contacts * rsl_model_history_size(model)` doubles, contact `c`'s record at
+/// `history + c * size` (see `rsl_model_history_size` for its layout; `rsl_history_from_state`
+/// packs a `rsl_contact_state`). The records keep only what the step reads, so there is less
+/// memory to move: for the LAMMPS_2021 preset 56 bytes per contact instead of the 112 of a
+/// `rsl_contact_state`, and the step takes about a tenth less time (docs/performance.md).
+/// Slip flags are not kept. Everything else (physics, validation, skipping, report, the order
+/// of the additions) is that of `rsl_batch_step`, whose loads and new histories this call
+/// reproduces bit for bit in double precision (with the state's other fields zero).
+///
+/// # Safety
+/// As `rsl_batch_step`, with `history` in place of `states` (`n_contacts` records).
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_step_history(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    dt: f64,
+    options: *const rsl_batch_options,
+    history: *mut f64,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
+        let report = unsafe { report_out(report)? };
+        let result = (|| -> Result<_, FfiError> {
+            // SAFETY: forwarded contract of this function.
+            let a = unsafe {
+                particle_args(
+                    model,
+                    particles,
+                    n_particles,
+                    pairs,
+                    n_contacts,
+                    normal_force,
+                    normal_stiffness,
+                    options,
+                    force,
+                    torque,
+                )?
+            };
+            let words = history_words(&a.model.model);
+            let doubles =
+                n_contacts
+                    .checked_mul(words)
+                    .ok_or(FfiError::Core(Error::InvalidArgument(
+                        "n_contacts times the history size overflows".to_string(),
+                    )))?;
+            // SAFETY: as above: `history` holds `n_contacts` records of `words` doubles.
+            let history = unsafe { slice_out(history, doubles, "history")? };
+            Ok((a, history))
+        })();
+        match result {
+            Err(e) => refuse(report, e),
+            Ok((a, history)) => {
+                /// Steps the records as `W`-word records.
+                #[allow(clippy::too_many_arguments)]
+                fn run<const W: usize>(
+                    model: &Model,
+                    dt: f64,
+                    particles: &[rsl_sphere],
+                    pairs: &[[u32; 2]],
+                    f_n: &[f64],
+                    k_n: Option<&[f64]>,
+                    history: &mut [f64],
+                    force: &mut [rsl_vec3],
+                    torque: &mut [rsl_vec3],
+                    config: BatchConfig,
+                ) -> Result<(BatchReport, Scene), Error> {
+                    let (records, rest) = history.as_chunks_mut::<W>();
+                    debug_assert!(rest.is_empty(), "whole records");
+                    // SAFETY: `Record<W>` is `repr(transparent)` over `[f64; W]`.
+                    let states = unsafe {
+                        std::slice::from_raw_parts_mut(
+                            records.as_mut_ptr().cast::<Record<W>>(),
+                            records.len(),
+                        )
+                    };
+                    let mut access = ParticleSteps {
+                        particles,
+                        pairs,
+                        normal_force: f_n,
+                        normal_stiffness: k_n,
+                        states,
+                        force,
+                        torque,
+                    };
+                    access.check()?;
+                    run_history_step(model, dt, &mut access, config)
+                }
+                let (model, config) = (&a.model.model, a.config);
+                let (p, q, f, k) = (a.particles, a.pairs, a.normal_force, a.normal_stiffness);
+                let (h, fo, t) = (history, a.force, a.torque);
+                let result = match history_words(model) {
+                    SPRINGS_ONLY => run::<SPRINGS_ONLY>(model, dt, p, q, f, k, h, fo, t, config),
+                    WITH_NORMAL => run::<WITH_NORMAL>(model, dt, p, q, f, k, h, fo, t, config),
+                    _ => run::<WITH_OFFAXIS>(model, dt, p, q, f, k, h, fo, t, config),
+                };
+                finish(report, result.map(|(b, s)| (b, s as u32, config.simd)))
+            }
         }
     })
 }
@@ -768,17 +1143,8 @@ pub unsafe extern "C" fn rsl_batch_step_contacts(
                     slice_out(out, n, "out")?,
                 )
             };
-            let k_n = if normal_stiffness.is_null() {
-                if needs_normal_stiffness(&m.model) && n > 0 {
-                    return Err(FfiError::NullPointer(
-                        "normal_stiffness (the model needs k_n)",
-                    ));
-                }
-                None
-            } else {
-                // SAFETY: as above.
-                Some(unsafe { slice_in(normal_stiffness, n, "normal_stiffness")? })
-            };
+            // SAFETY: as above.
+            let k_n = unsafe { stiffness_in(m, normal_stiffness, n)? };
             let config = BatchConfig::from_options(opts)?;
             let access = ContactSteps {
                 body1,

@@ -50,6 +50,27 @@ pub const RSL_INPUT_TWISTING_STIFFNESS: u32 = 128;
 pub const RSL_INPUT_TWISTING_DAMPING: u32 = 256;
 /// Input flag: use `twisting_friction` (mu_tw, a length) for this contact (sds).
 pub const RSL_INPUT_TWISTING_FRICTION: u32 = 512;
+/// Input flag: the contact is a cohesive bond with shear adhesion
+/// `rsl_contact_input.shear_adhesion` (a force, at least 0): the sliding limit becomes
+/// `max(0, shear_adhesion + mu F)`, `mu` the model's sliding friction. `F` is `limit_force`
+/// with `RSL_INPUT_LIMIT_FORCE`; else, for YADE_2023, the signed `normal_force` (YADE 2023.02a
+/// CohFrict's `shearAdhesion + Fn tan(phi)`, lowered by tension), and for the other presets
+/// the force their limits use (`max(f_n, 0)` objective, `|f_n|` LAMMPS_2021 and LIGGGHTS_3_8).
+/// With YADE_2023 and without `RSL_INPUT_LIMIT_FORCE`, as CohFrict does: the rolling and
+/// twisting limits use `|f_n|` (also under tension), and in a step where the sliding limit is
+/// reached while `f_n < 0` the normal force is not applied (`force1` has no normal part) and
+/// the rolling and twisting limits are 0. The other limits are unchanged. The normal law is the
+/// host's (CohFrict: `kn (un - unp)`, its normal plasticity at `-normalAdhesion`, and the end of
+/// the contact when a fragile bond pulls harder than `normalAdhesion`). Not covered: CohFrict's
+/// `cohesionDisablesFriction` (sliding limit `shearAdhesion` alone).
+pub const RSL_INPUT_SHEAR_ADHESION: u32 = 1024;
+/// Input flag (only with `RSL_INPUT_SHEAR_ADHESION`): the bond is fragile (YADE's `fragile`).
+/// When the trial sliding load exceeds the adhesive limit, the bond breaks in this step: the
+/// limit is recomputed without the adhesion (`mu F`, the limit without
+/// `RSL_INPUT_SHEAR_ADHESION`) and the trial is clipped to it, and `RSL_SLIP_BOND_BROKEN` is
+/// reported. The host then drops the bond's adhesions (its normal one included) for every later
+/// step of this contact: it clears both flags. The library keeps no bond state.
+pub const RSL_INPUT_FRAGILE_BOND: u32 = 2048;
 
 /// Slip flag: the sliding limit was reached this step.
 pub const RSL_SLIP_SLIDING: u32 = 1;
@@ -57,6 +78,9 @@ pub const RSL_SLIP_SLIDING: u32 = 1;
 pub const RSL_SLIP_ROLLING: u32 = 2;
 /// Slip flag: the twisting limit was reached this step.
 pub const RSL_SLIP_TWISTING: u32 = 4;
+/// Slip flag: a fragile bond (`RSL_INPUT_FRAGILE_BOND`) broke this step (with
+/// `RSL_SLIP_SLIDING`); step the contact without its adhesion from now on.
+pub const RSL_SLIP_BOND_BROKEN: u32 = 8;
 
 /// The history a host stores for each contact: plain data, copy it freely. All bytes zero
 /// (`rsl_contact_state_init` or memset) is a fresh contact.
@@ -141,6 +165,11 @@ pub struct rsl_contact_input {
     /// Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no
     /// limit, even at zero force).
     pub twisting_friction: f64,
+    /// Shear adhesion of a cohesive bond (force, >= 0; +INFINITY: no sliding limit while
+    /// bonded), with `RSL_INPUT_SHEAR_ADHESION`: added to the sliding limit (see the flag). YADE
+    /// CohFrict: the contact's `shearAdhesion`, `shearCohesion min(R1, R2)^2`. Added in 0.2.0
+    /// (the struct grew by 8 bytes).
+    pub shear_adhesion: f64,
     /// OR of `RSL_INPUT_*`.
     pub flags: u32,
     /// Padding; keep 0.
@@ -222,7 +251,9 @@ fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
         | RSL_INPUT_ROLLING_FRICTION
         | RSL_INPUT_TWISTING_STIFFNESS
         | RSL_INPUT_TWISTING_DAMPING
-        | RSL_INPUT_TWISTING_FRICTION;
+        | RSL_INPUT_TWISTING_FRICTION
+        | RSL_INPUT_SHEAR_ADHESION
+        | RSL_INPUT_FRAGILE_BOND;
     if i.flags & !known != 0 {
         return Err(Error::InvalidArgument(format!(
             "input flags 0x{:x} has unknown bits",
@@ -248,6 +279,8 @@ fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
         twisting_stiffness: flag(RSL_INPUT_TWISTING_STIFFNESS).then_some(i.twisting_stiffness),
         twisting_damping: flag(RSL_INPUT_TWISTING_DAMPING).then_some(i.twisting_damping),
         twisting_friction: flag(RSL_INPUT_TWISTING_FRICTION).then_some(i.twisting_friction),
+        shear_adhesion: flag(RSL_INPUT_SHEAR_ADHESION).then_some(i.shear_adhesion),
+        fragile_bond: flag(RSL_INPUT_FRAGILE_BOND),
         setup: flag(RSL_INPUT_SETUP),
     })
 }
@@ -263,6 +296,9 @@ fn slip_bits(o: &StepOutput<f64>) -> u32 {
         if *slipped {
             bits |= bit;
         }
+    }
+    if o.bond_broken {
+        bits |= RSL_SLIP_BOND_BROKEN;
     }
     bits
 }

@@ -9,6 +9,7 @@ pub mod batch;
 pub mod contact;
 pub mod decompose;
 mod finite;
+pub mod history;
 #[cfg(target_arch = "x86_64")]
 mod lanes_x86;
 pub mod model;

@@ -12,6 +12,7 @@
 //! [`PortableCopy`]: crate::batch::PortableCopy
 
 use super::contact::rsl_contact_state;
+use super::history::Record;
 use super::types::rsl_sphere;
 use crate::batch::{GroupCopy, GroupRow, BODY_WORDS, GROUP, STATE_WORDS};
 use std::mem::{offset_of, size_of};
@@ -31,7 +32,7 @@ fn doubles<S>(s: &S) -> *const f64 {
 
 /// [`GroupCopy`] with AVX2: 4 x 4 transpositions in ymm registers.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Avx2Copy(());
+pub struct Avx2Copy(());
 
 impl Avx2Copy {
     /// The copier, for a CPU known to have AVX2.
@@ -45,7 +46,7 @@ impl Avx2Copy {
 
 /// [`GroupCopy`] with AVX-512 F and DQ: 8 x 8 transpositions in zmm registers.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Avx512Copy(());
+pub struct Avx512Copy(());
 
 impl Avx512Copy {
     /// The copier, for a CPU known to have AVX-512 F and DQ.
@@ -365,6 +366,99 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
         set_slip_flags(states, slip);
     }
 }
+
+/// Packed histories ([`Record`]) in windows of four words, each moved by a 4 x 4 AVX2
+/// transposition (AVX-512 CPUs have AVX2): record words 0..4 and 3..7 are the springs (rows
+/// 0..7), words 6..10 the twisting angle again and the previous normal (rows 6, 10, 11, 12),
+/// words 9..13 the previous normal's last word again and the off-axis part (rows 12, 7, 8, 9).
+/// A word in two windows is moved twice with the same value.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn records_to_rows<const W: usize>(
+    records: [&Record<W>; GROUP],
+    rows: [&mut GroupRow; STATE_WORDS],
+) {
+    let src = records.map(|r| r.0.as_ptr());
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+    // SAFETY: each pointer comes from a whole record of `W` doubles, and every window read
+    // (words 0..4, 3..7, then 6..10 when `W >= 10`, 9..13 when `W = 13`) is inside it; the CPU
+    // has AVX2 (the caller's contract).
+    unsafe {
+        avx2::words_to_rows(src, 0, [r0, r1, r2, &mut *r3]);
+        avx2::words_to_rows(src, 3, [r3, r4, r5, &mut *r6]);
+        if W >= 10 {
+            avx2::words_to_rows(src, 6, [r6, r10, r11, &mut *r12]);
+        }
+        if W >= 13 {
+            avx2::words_to_rows(src, 9, [r12, r7, r8, r9]);
+        }
+    }
+}
+
+/// The inverse of [`records_to_rows`]: the record words from the rows (slip flags are not
+/// kept in a record).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn rows_to_records<const W: usize>(
+    rows: [&GroupRow; STATE_WORDS],
+    records: &mut [Record<W>; GROUP],
+) {
+    let dst = records.each_mut().map(|r| r.0.as_mut_ptr());
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+    // SAFETY: each pointer comes from a distinct `&mut` record of `W` doubles (so they do not
+    // overlap each other or the rows), and every window written is inside it (as in
+    // `records_to_rows`); the CPU has AVX2 (the caller's contract).
+    unsafe {
+        avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
+        avx2::rows_to_words([r3, r4, r5, r6], dst, 3);
+        if W >= 10 {
+            avx2::rows_to_words([r6, r10, r11, r12], dst, 6);
+        }
+        if W >= 13 {
+            avx2::rows_to_words([r12, r7, r8, r9], dst, 9);
+        }
+    }
+}
+
+macro_rules! record_copy {
+    ($copy:ty) => {
+        #[cfg(target_arch = "x86_64")]
+        impl<const W: usize> GroupCopy<rsl_sphere, Record<W>> for $copy {
+            #[inline(always)]
+            fn bodies(self, bodies: [&rsl_sphere; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
+                GroupCopy::<rsl_sphere, rsl_contact_state>::bodies(self, bodies, rows)
+            }
+
+            #[inline(always)]
+            fn states(self, states: [&Record<W>; GROUP], rows: [&mut GroupRow; STATE_WORDS]) {
+                // SAFETY: an `Avx2Copy` exists only on a CPU with AVX2 and an `Avx512Copy` only
+                // on one with AVX-512 F and DQ (their `assume`); the batch dispatch runs the
+                // AVX-512 kernels only where AVX2 is present too (`Simd::available`).
+                unsafe { records_to_rows(states, rows) }
+            }
+
+            #[inline(always)]
+            fn store_states(
+                self,
+                rows: [&GroupRow; STATE_WORDS],
+                _slip: &[u32; GROUP],
+                states: &mut [Record<W>; GROUP],
+            ) {
+                // SAFETY: as in `states`.
+                unsafe { rows_to_records(rows, states) }
+            }
+        }
+    };
+}
+
+record_copy!(Avx2Copy);
+record_copy!(Avx512Copy);
 
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {

@@ -78,6 +78,7 @@ fn check_input<T: RealField + Copy>(
     for (value, what) in [
         (input.rolling_friction, "rolling_friction"),
         (input.twisting_friction, "twisting_friction"),
+        (input.shear_adhesion, "shear_adhesion"),
     ] {
         if let Some(x) = value {
             // +inf means "no limit"; NaN and -inf are non-finite input.
@@ -94,6 +95,13 @@ fn check_input<T: RealField + Copy>(
                 _ => {}
             }
         }
+    }
+    if input.fragile_bond && input.shear_adhesion.is_none() {
+        return Err(Error::InvalidArgument(
+            "a fragile bond needs its shear_adhesion (RSL_INPUT_FRAGILE_BOND without \
+             RSL_INPUT_SHEAR_ADHESION)"
+                .into(),
+        ));
     }
     let r = &model.rolling;
     let infinite = |x: Option<T>| x.is_some_and(|x| !x.is_finite());

@@ -19,8 +19,8 @@ use crate::laws::model::{Model, RollingDamping, RollingLaw};
 use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
 use crate::scalar::FiniteSums;
 
-/// True when `input` has no per-contact override, no limit force and is not the setup pass:
-/// the only inputs the fast path takes.
+/// True when `input` has no per-contact override, no limit force, no bond (shear adhesion,
+/// fragile) and is not the setup pass: the only inputs the fast path takes.
 fn plain(input: &StepInput<f64>) -> bool {
     !input.setup
         && input.sliding_stiffness.is_none()
@@ -32,6 +32,8 @@ fn plain(input: &StepInput<f64>) -> bool {
         && input.twisting_damping.is_none()
         && input.twisting_friction.is_none()
         && input.limit_force.is_none()
+        && input.shear_adhesion.is_none()
+        && !input.fragile_bond
 }
 
 /// The values of a sphere in the memory order of the C `rsl_sphere` (centre, velocity, angular

@@ -63,6 +63,10 @@ pub struct Conventions {
     pub lammps_rescale_threshold: bool,
     /// The limits' force without `limit_force`.
     pub tension_limit: TensionLimit,
+    /// YADE CohFrict's rules with shear adhesion (`StepInput::shear_adhesion`): the sliding
+    /// limit on the signed `f_n`, the rolling and twisting limits on `|f_n|`, and no normal
+    /// force (hence zero rolling and twisting limits) in a step that slips under tension.
+    pub yade_cohesion: bool,
     /// The setup pass.
     pub setup: SetupRule,
 }
@@ -81,6 +85,7 @@ impl Preset {
             cdt_liggghts: false,
             lammps_rescale_threshold: false,
             tension_limit: TensionLimit::Compressive,
+            yade_cohesion: false,
             setup: SetupRule {
                 sliding_increment: false,
                 rolling_increment: false,
@@ -108,6 +113,7 @@ impl Preset {
                 sliding_storage: Storage::Load,
                 rolling_storage: Storage::Load,
                 twist_vector: true,
+                yade_cohesion: true,
                 ..objective
             },
             Preset::Liggghts38 => Conventions {

@@ -15,9 +15,12 @@ use crate::laws::model::{
 use crate::laws::presets::{Conventions, SlidingRate, TensionLimit};
 use crate::laws::spring::{
     scalar_spring, vector_spring, ClipRule, SpringCoefficients, SpringEnergy, Storage,
+    VectorSpringStep,
 };
 use crate::laws::transport::{transport, Frame, RescaleWhen};
 use crate::loads::{contact_loads_from_couple, ContactLoads};
+use simba::simd::SimdBool;
+
 use crate::scalar::{
     cross, dot, lit, mask, norm, norm_squared, rescale_overflowed, select, select3, tangential,
     Real, Vec3,
@@ -28,8 +31,9 @@ use crate::scalar::{
 pub struct StepInput<T: Real> {
     /// Normal force `f_n` on the contact, signed: compressive positive, tensile (cohesive,
     /// or a dashpot pulling during unloading) negative. Applied to the bodies as given (body 1
-    /// gets `-f_n n`). The limits use `limit_force` when given, else the preset's rule:
-    /// `max(f_n, 0)` (objective, YADE_2023) or `|f_n|` (LAMMPS_2021, LIGGGHTS_3_8).
+    /// gets `-f_n n`), except in YADE CohFrict's tensile slip (see `shear_adhesion`). The
+    /// limits use `limit_force` when given, else the preset's rule: `max(f_n, 0)` (objective,
+    /// YADE_2023) or `|f_n|` (LAMMPS_2021, LIGGGHTS_3_8).
     pub normal_force: T,
     /// Time step (> 0).
     pub dt: T,
@@ -67,6 +71,19 @@ pub struct StepInput<T: Real> {
     /// LAMMPS' `Fncrit` (`|F_ne + 2 F_pulloff|` with its JKR model, `|F_ne|` with DMT in LAMMPS
     /// 20220106), an elastic normal force, the compressive part plus a cohesive offset.
     pub limit_force: Option<T>,
+    /// Shear adhesion `c_s` of a cohesive bond (a force, >= 0; +inf: no sliding limit while
+    /// bonded): the sliding limit becomes `max(0, c_s + mu F)`. `F` is `limit_force` when
+    /// given, else for YADE_2023 the signed `f_n` (CohFrict's `shearAdhesion + Fn tan(phi)`),
+    /// else the preset's limit force. With YADE_2023 and no `limit_force`, the rolling and
+    /// twisting limits then use `|f_n|` (CohFrict's `normalForce.norm()`), and a step whose
+    /// sliding limit is reached while `f_n < 0` applies no normal force and has zero rolling and
+    /// twisting limits (CohFrict sets `normalForce = 0` there). Other limits are unchanged.
+    pub shear_adhesion: Option<T>,
+    /// The bond is fragile (needs `shear_adhesion`): when the trial sliding load exceeds the
+    /// adhesive limit, the bond breaks in this step and the limit is recomputed without the
+    /// adhesion (YADE's `fragile` CohFrictPhys); [`StepOutput::bond_broken`] reports it, and the
+    /// host drops the adhesion from the next step on.
+    pub fragile_bond: bool,
     /// The setup pass LAMMPS and LIGGGHTS make at the start of every run: no increments (LIGGGHTS:
     /// one rolling increment), and the state is not written (LAMMPS: its clip writes it). YADE
     /// has none (its first step increments); for the objective and YADE presets it gives the
@@ -95,6 +112,8 @@ impl<T: Real> StepInput<T> {
             twisting_damping: None,
             twisting_friction: None,
             limit_force: None,
+            shear_adhesion: None,
+            fragile_bond: false,
             setup: false,
         }
     }
@@ -179,6 +198,8 @@ pub struct StepOutput<T: Real> {
     pub energy: StepEnergy<T>,
     /// Lanes where the sliding, rolling and twisting limits were reached.
     pub slipped: [T::SimdBool; 3],
+    /// Lanes where a fragile bond (`StepInput::fragile_bond`) broke this step.
+    pub bond_broken: T::SimdBool,
 }
 
 /// Body 2 of a contact.
@@ -236,6 +257,17 @@ fn unit_and_norm<T: Real>(v: &Vec3<T>) -> (Vec3<T>, T) {
 fn limit_of<T: Real>(coefficient: T, force: T) -> T {
     let product = coefficient * force;
     select(product.simd_ne(product), coefficient, product)
+}
+
+/// The sliding limit of a bond with shear adhesion `adhesion` (>= 0, may be +inf):
+/// `max(0, adhesion + mu force)` for a signed `force` (a tensile force lowers it). `0 * inf` in
+/// the friction term is `mu` (as [`limit_of`]); `+inf - inf` (infinite adhesion, infinite
+/// friction under tension) is +inf, no limit.
+#[inline(always)]
+fn adhesive_limit<T: Real>(adhesion: T, mu: T, force: T) -> T {
+    let sum = adhesion + limit_of(mu, force);
+    let sum = select(sum.simd_ne(sum), lit(f64::INFINITY), sum);
+    select(sum.simd_lt(T::zero()), T::zero(), sum)
 }
 
 /// Steps one contact without input checks (every [`Real`] type). `state` is updated in place
@@ -325,6 +357,11 @@ pub fn contact_step_with_geometry<T: Real>(
             }
         }
     };
+    // With shear adhesion, YADE CohFrict's rules (without a host limit force): the sliding limit
+    // on the signed f_n, the rolling and twisting limits on |f_n|.
+    let yade_cohesion =
+        input.shear_adhesion.is_some() && conv.yade_cohesion && input.limit_force.is_none();
+    let adhesion_force = if yade_cohesion { f_n } else { f_limit };
     let energy_on = model.track_energy;
     let (increment_sliding, increment_rolling, store) = if input.setup {
         (
@@ -364,6 +401,7 @@ pub fn contact_step_with_geometry<T: Real>(
     let mut sliding_force = Vec3::zeros();
     let mut sliding_energy = SpringEnergy::zero();
     let mut slipped_s = mask::<T>(false);
+    let mut bond_broken = mask::<T>(false);
     if sliding_on {
         let mut v_s = d.sliding_velocity;
         let delta = g.overlap;
@@ -394,7 +432,12 @@ pub fn contact_step_with_geometry<T: Real>(
                 }
             }
         }
-        let limit = limit_of(lit::<T>(model.sliding.friction), f_limit);
+        let mu = lit::<T>(model.sliding.friction);
+        let plain_limit = limit_of(mu, f_limit);
+        let limit = match input.shear_adhesion {
+            None => plain_limit,
+            Some(c) => adhesive_limit(c, mu, adhesion_force),
+        };
         let spring = if increment_sliding {
             transport(
                 model.sliding_transport,
@@ -414,7 +457,7 @@ pub fn contact_step_with_geometry<T: Real>(
             damping: gamma_t,
             limit,
         };
-        let r = vector_spring(
+        let mut r = vector_spring(
             &spring,
             &v_s,
             dt,
@@ -424,11 +467,54 @@ pub fn contact_step_with_geometry<T: Real>(
             increment_sliding,
             energy_on,
         );
+        if input.fragile_bond && input.shear_adhesion.is_some() && r.slipped.any() {
+            // A fragile bond breaks where the adhesive limit is exceeded; the same trial is
+            // clipped again at the limit without adhesion (YADE: SetBreakingState, then
+            // maxFs = max(0, Fn tan(phi))), which is never above the adhesive one.
+            bond_broken = r.slipped;
+            let c = SpringCoefficients {
+                limit: plain_limit,
+                ..c
+            };
+            let again = vector_spring(
+                &spring,
+                &v_s,
+                dt,
+                &c,
+                conv.sliding_clip,
+                conv.sliding_storage,
+                increment_sliding,
+                energy_on,
+            );
+            r = VectorSpringStep {
+                load: select3(bond_broken, &again.load, &r.load),
+                spring: select3(bond_broken, &again.spring, &r.spring),
+                slipped: r.slipped,
+                energy: SpringEnergy {
+                    elastic: select(bond_broken, again.energy.elastic, r.energy.elastic),
+                    dashpot: select(bond_broken, again.energy.dashpot, r.energy.dashpot),
+                    slider: select(bond_broken, again.energy.slider, r.energy.slider),
+                },
+            };
+        }
         sliding_force = r.load;
         sliding_energy = r.energy;
         slipped_s = r.slipped;
         new_state.sliding_spring = r.spring;
     }
+
+    // YADE CohFrict with adhesion: a slip under tension drops the normal force (its
+    // `normalForce = 0`), so that step's rolling and twisting limits are zero; otherwise they
+    // use |f_n|.
+    let (f_n, f_limit) = if yade_cohesion {
+        let dropped = slipped_s & f_n.simd_lt(zero);
+        (
+            select(dropped, zero, f_n),
+            select(dropped, zero, f_n.simd_abs()),
+        )
+    } else {
+        (f_n, f_limit)
+    };
 
     // Rolling.
     let r_r = g.rolling_radius;
@@ -679,5 +765,6 @@ pub fn contact_step_with_geometry<T: Real>(
             transport: transport_change,
         },
         slipped: [slipped_s, slipped_r, slipped_t],
+        bond_broken,
     }
 }
