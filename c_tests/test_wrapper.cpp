@@ -133,6 +133,18 @@ static void test_steps_give_the_c_bits() {
     EXPECT(same_bits(s_cpp, s_c));
     EXPECT(f1.x != 0.0);
 
+    // swap_state is rsl_contact_state_swap, and the mirrored state steps the swapped pair.
+    rsl_contact_state m_cpp = s_cpp, m_c = s_c;
+    m.swap_state(m_cpp);
+    EXPECT(rsl_contact_state_swap(m.get(), &m_c) == RSL_OK);
+    EXPECT(same_bits(m_cpp, m_c));
+    EXPECT(m_cpp.sliding_spring.x == -s_cpp.sliding_spring.x && s_cpp.sliding_spring.x != 0.0);
+    rsl_contact_state forward = s_cpp;
+    const rsl_contact_loads l12 = m.step(a, b, in, forward);
+    const rsl_contact_loads l21 = m.step(b, a, in, m_cpp);
+    EXPECT(std::fabs(l21.force1.x + l12.force1.x) <= 1e-12 * std::fabs(l12.force1.x));
+    EXPECT(std::fabs(l21.torque1.z - l12.torque2.z) <= 1e-12 * std::fabs(l12.torque2.z) + 1e-300);
+
     rsl_contact_loads w_cpp = m.step(a, wall, in, s_cpp);
     rsl_contact_loads w_c;
     EXPECT(rsl_contact_step_wall(m.get(), &a, &wall, &in, &s_c, &w_c) == RSL_OK);

@@ -864,6 +864,35 @@ int32_t rsl_batch_scene(const struct rsl_model *model, uint32_t *scene);
 // `state` must be NULL or point to a writable `rsl_contact_state`.
 int32_t rsl_contact_state_init(struct rsl_contact_state *state);
 
+// Mirrors a contact's state for the same contact with its two bodies exchanged: after
+// `rsl_contact_state_swap(model, &s)`, stepping `(body2, body1)` from `s` gives the mirror of
+// stepping `(body1, body2)` from the original state (the force on the new body 1 is the old
+// `-force1`, the new `torque1` and `torque2` are the old `torque2` and `torque1`), and the new
+// state is again the mirror of the other order's, step after step. Use it when a host meets
+// a stored pair in the other order (a neighbour list rebuilt with the bodies exchanged, a
+// parallel host computing the pair from the other body's side). Applying it twice gives the
+// state back bit for bit.
+//
+// The rule (`model` gives the rolling form): `sliding_spring` negated (it integrates the
+// sliding velocity of body 1 relative to body 2, which changes sign; YADE preset: the shear
+// force on body 1); `rolling_spring` kept in the length form (`xi_r` integrates
+// `v_r = R_r (w1 - w2) x n`, where both factors change sign) and negated in the angle form
+// (`theta_r` integrates `(w1 - w2)_t`; YADE and LIGGGHTS presets: the moment on body 1);
+// `twisting_angle` kept (`(w1 - w2) . n` is unchanged; YADE preset: the moment on body 1 along
+// the previous normal, which flips too); `twisting_offaxis` negated; `previous_normal`
+// negated (the normal points from body 1 to body 2); `slip_flags` kept. Negating every
+// field, as LAMMPS 20220106 does to its history when a pair's order changes, reverses the
+// rolling and twisting springs of the length form: wrong.
+//
+// Any values are mirrored as they are (no finiteness check: the step checks the state).
+// `*state` is written only on `RSL_OK`. Errors: `RSL_ERR_NULL_POINTER`, `RSL_ERR_MISALIGNED`,
+// `RSL_ERR_INVALID_HANDLE`.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// `model` must be NULL or a live model not modified during the call; `state` must be NULL or
+// point to a writable `rsl_contact_state`.
+int32_t rsl_contact_state_swap(const struct rsl_model *model, struct rsl_contact_state *state);
+
 // Steps one sphere-sphere contact: transports the springs, computes the rates, steps the
 // model's sliding, rolling and twisting laws, and writes the loads on both bodies to `*out`.
 // `*state` and `*out` are written only on `RSL_OK` (with `RSL_INPUT_SETUP`, `*state` only

@@ -205,6 +205,11 @@ public:
         return scene;
     }
 
+    /// Mirrors `state` for the same contact with body 1 and body 2 exchanged
+    /// (`rsl_contact_state_swap`): stepping (body2, body1) from it mirrors the original order.
+    void swap_state(rsl_contact_state &state) const {
+        detail::check(rsl_contact_state_swap(handle_, &state), "rsl_contact_state_swap");
+    }
     /// One step of a sphere pair: advances `state`, returns the loads (force on body 1,
     /// `-f_n n + F_t`, torques on both bodies, and the parts).
     rsl_contact_loads step(const rsl_sphere &body1, const rsl_sphere &body2,

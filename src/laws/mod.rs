@@ -8,4 +8,5 @@ pub mod presets;
 pub mod spring;
 pub mod stability;
 pub mod step;
+pub mod swap;
 pub mod transport;

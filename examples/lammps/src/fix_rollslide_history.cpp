@@ -1,0 +1,292 @@
+// fix rollslide/history: see fix_rollslide_history.h. Created by pair_style
+// granular/rollslide (ID ROLLSLIDE_HISTORY), never by the user.
+//
+// Two homes for the history, one current at a time (`live`):
+// - per neighbour-list entry (`state[first[ii] + jj]`, the list atom i as body 1), what the pair
+//   style steps, valid from a neighbour-list build to the next pre_exchange;
+// - per owned atom (`partners[i]`: partner ID + state with atom i as body 1), what migrates
+//   with the atoms (pack/unpack_exchange), is sorted with them (copy_arrays) and goes into
+//   restart files (pack/unpack_restart), valid from pre_exchange (or post_run) to the next build.
+// pre_exchange moves entries to atoms: a contact of two owned atoms is stored on both, the
+// second copy mirrored with rsl_contact_state_swap (the partner as body 1); a contact with a
+// ghost atom is stored on the owned atom only, because the pair style's newton off list makes
+// the ghost's own rank compute (and store) the same contact from its side. post_neighbor moves
+// them back, looking each neighbour's ID up in the list atom's partners.
+#include "fix_rollslide_history.h"
+
+#include "pair_granular_rollslide.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "neigh_list.h"
+#include "update.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+static_assert(sizeof(rsl_contact_state) == 13 * sizeof(double) + 2 * sizeof(uint32_t),
+              "rsl_contact_state: 13 doubles and two 32-bit integers");
+
+FixRollslideHistory::FixRollslideHistory(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  if (narg != 3) error->all(FLERR, std::string("fix rollslide/history takes no arguments"));
+  restart_global = 1;    // write_restart() is the hook that makes the per-atom lists current
+  restart_peratom = 1;
+  create_attribute = 1;
+  maxexchange_dynamic = 1;
+  maxexchange = 1;
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+}
+
+FixRollslideHistory::~FixRollslideHistory()
+{
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+}
+
+int FixRollslideHistory::setmask()
+{
+  return PRE_EXCHANGE | POST_NEIGHBOR;
+}
+
+void FixRollslideHistory::init()
+{
+  if (pair == nullptr || force->pair != static_cast<Pair *>(pair))
+    error->all(FLERR, std::string("fix rollslide/history belongs to pair_style granular/rollslide, "
+                                  "which is not the pair style (pair_style hybrid is not supported)"));
+}
+
+void FixRollslideHistory::pack_partner(const Partner &p, double *buf)
+{
+  const rsl_contact_state &s = p.state;
+  const double values[PARTNER_DOUBLES] = {(double) p.tag,
+                                          s.sliding_spring.x, s.sliding_spring.y, s.sliding_spring.z,
+                                          s.rolling_spring.x, s.rolling_spring.y, s.rolling_spring.z,
+                                          s.twisting_angle,
+                                          s.twisting_offaxis.x, s.twisting_offaxis.y, s.twisting_offaxis.z,
+                                          s.previous_normal.x, s.previous_normal.y, s.previous_normal.z,
+                                          (double) s.slip_flags};
+  memcpy(buf, values, sizeof values);
+}
+
+void FixRollslideHistory::unpack_partner(const double *b, Partner &p)
+{
+  p.tag = (tagint) b[0];
+  rsl_contact_state &s = p.state;
+  s.sliding_spring = {b[1], b[2], b[3]};
+  s.rolling_spring = {b[4], b[5], b[6]};
+  s.twisting_angle = b[7];
+  s.twisting_offaxis = {b[8], b[9], b[10]};
+  s.previous_normal = {b[11], b[12], b[13]};
+  s.slip_flags = (uint32_t) b[14];
+  s.reserved = 0;
+}
+
+// Entries -> atoms (see the file comment). Only when the entries are the current copy.
+void FixRollslideHistory::to_atoms()
+{
+  if (!live) return;
+  NeighList *list = pair->list;
+  const int nlocal = atom->nlocal;
+  tagint *tag = atom->tag;
+  int *type = atom->type;
+  for (int i = 0; i < nlocal; i++) partners[i].clear();
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    const bigint base = first[ii];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const bigint e = base + jj;
+      if (!touch[e]) continue;
+      const int j = jlist[jj] & NEIGHMASK;
+      partners[i].push_back({tag[j], state[e]});
+      if (j < nlocal) {
+        Partner mirrored{tag[i], state[e]};
+        int32_t st = rsl_contact_state_swap(pair->model(type[j], type[i]), &mirrored.state);
+        if (st != RSL_OK) pair->library_error("rsl_contact_state_swap", st, tag[j], tag[i]);
+        partners[j].push_back(mirrored);
+      }
+    }
+  }
+  live = false;
+  update_maxexchange();
+}
+
+// Atoms -> entries, for the current neighbour list.
+void FixRollslideHistory::build_entries()
+{
+  NeighList *list = pair->list;
+  tagint *tag = atom->tag;
+  const int inum = list->inum;
+  first.resize(inum + 1);
+  bigint total = 0;
+  for (int ii = 0; ii < inum; ii++) {
+    first[ii] = total;
+    total += list->numneigh[list->ilist[ii]];
+  }
+  first[inum] = total;
+  touch.assign(total, 0);
+  state.resize(total);
+  rsl_contact_state fresh;
+  memset(&fresh, 0, sizeof fresh);
+  std::fill(state.begin(), state.end(), fresh);
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = list->ilist[ii];
+    const std::vector<Partner> &mine = partners[i];
+    if (mine.empty()) continue;
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const tagint want = tag[jlist[jj] & NEIGHMASK];
+      for (const Partner &p : mine)
+        if (p.tag == want) {
+          state[first[ii] + jj] = p.state;
+          touch[first[ii] + jj] = 1;
+          break;
+        }
+    }
+  }
+  live = true;
+}
+
+void FixRollslideHistory::update_maxexchange()
+{
+  size_t most = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (partners[i].size() > most) most = partners[i].size();
+  maxexchange = 1 + PARTNER_DOUBLES * static_cast<int>(most);
+}
+
+void FixRollslideHistory::pre_exchange()
+{
+  to_atoms();
+}
+
+void FixRollslideHistory::setup_post_neighbor()
+{
+  post_neighbor();
+}
+
+void FixRollslideHistory::post_neighbor()
+{
+  // A build not preceded by pre_exchange (atoms not renumbered since the entries were made).
+  to_atoms();
+  build_entries();
+}
+
+// Called by Modify for every fix at the end of a run: between runs the per-atom lists are the
+// current copy (atoms may be added, deleted, written to a restart file).
+void FixRollslideHistory::post_run()
+{
+  to_atoms();
+}
+
+void FixRollslideHistory::write_restart(FILE *fp)
+{
+  to_atoms();
+  if (comm->me == 0) {
+    int size = 0;
+    fwrite(&size, sizeof(int), 1, fp);
+  }
+}
+
+double FixRollslideHistory::memory_usage()
+{
+  double bytes = (double) partners.capacity() * sizeof(std::vector<Partner>);
+  for (const auto &p : partners) bytes += (double) p.capacity() * sizeof(Partner);
+  bytes += (double) state.capacity() * sizeof(rsl_contact_state) + touch.capacity() +
+      (double) first.capacity() * sizeof(bigint);
+  return bytes;
+}
+
+void FixRollslideHistory::grow_arrays(int nmax)
+{
+  if ((int) partners.size() < nmax) partners.resize(nmax);
+}
+
+void FixRollslideHistory::copy_arrays(int i, int j, int)
+{
+  partners[j] = partners[i];
+}
+
+void FixRollslideHistory::set_arrays(int i)
+{
+  partners[i].clear();
+}
+
+int FixRollslideHistory::pack_exchange(int i, double *buf)
+{
+  int m = 0;
+  buf[m++] = (double) partners[i].size();
+  for (const Partner &p : partners[i]) {
+    pack_partner(p, &buf[m]);
+    m += PARTNER_DOUBLES;
+  }
+  return m;
+}
+
+int FixRollslideHistory::unpack_exchange(int nlocal, double *buf)
+{
+  grow_arrays(nlocal + 1);
+  int m = 0;
+  const int n = (int) buf[m++];
+  partners[nlocal].resize(n);
+  for (int k = 0; k < n; k++) {
+    unpack_partner(&buf[m], partners[nlocal][k]);
+    m += PARTNER_DOUBLES;
+  }
+  // This rank may send the atom on before its next pre_exchange: Comm sizes its buffers from
+  // maxexchange, which must cover every owned atom's list.
+  if (1 + PARTNER_DOUBLES * n > maxexchange) maxexchange = 1 + PARTNER_DOUBLES * n;
+  return m;
+}
+
+int FixRollslideHistory::pack_restart(int i, double *buf)
+{
+  // buf[0] is the length of this fix's values, read by Atom to skip them.
+  int m = 1;
+  buf[m++] = (double) partners[i].size();
+  for (const Partner &p : partners[i]) {
+    pack_partner(p, &buf[m]);
+    m += PARTNER_DOUBLES;
+  }
+  buf[0] = m;
+  return m;
+}
+
+void FixRollslideHistory::unpack_restart(int nlocal, int nth)
+{
+  grow_arrays(nlocal + 1);
+  double **extra = atom->extra;
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  const int n = static_cast<int>(extra[nlocal][m++]);
+  partners[nlocal].resize(n);
+  for (int k = 0; k < n; k++) {
+    unpack_partner(&extra[nlocal][m], partners[nlocal][k]);
+    m += PARTNER_DOUBLES;
+  }
+  if (1 + PARTNER_DOUBLES * n > maxexchange) maxexchange = 1 + PARTNER_DOUBLES * n;
+  live = false;
+}
+
+int FixRollslideHistory::size_restart(int nlocal)
+{
+  return 2 + PARTNER_DOUBLES * (int) partners[nlocal].size();
+}
+
+int FixRollslideHistory::maxsize_restart()
+{
+  int most = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if ((int) partners[i].size() > most) most = (int) partners[i].size();
+  int all = 0;
+  MPI_Allreduce(&most, &all, 1, MPI_INT, MPI_MAX, world);
+  return 2 + PARTNER_DOUBLES * all;
+}

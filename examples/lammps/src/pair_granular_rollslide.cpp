@@ -1,0 +1,551 @@
+// pair_style granular/rollslide: see pair_granular_rollslide.h.
+//
+// Conventions: LAMMPS' pair (i, j) is the library's (body 1, body 2); LAMMPS' normal
+// `(x_i - x_j)/r` is the library's `-n`; the library returns the force on body 1 (= i), whole
+// (normal + sliding), and the torques on both bodies. The neighbour list is always a newton
+// off list (each pair with a ghost atom is computed by both ranks, each applying the loads to
+// its own atom), whatever `newton_pair` says, so that no contact history has to be sent back
+// to a ghost atom's owner: each rank keeps the history of its own atoms' contacts, in its
+// atom's perspective (rsl_contact_state_swap gives the partner's).
+#include "pair_granular_rollslide.h"
+
+#include "fix_rollslide_history.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "update.h"
+#include "utils.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+// x^n for an integer n >= 0 by binary exponentiation (as LAMMPS' powint evaluates it, so the
+// tsuji coefficient has the same bits as pair granular's).
+double power(double x, int n)
+{
+  if (n == 0) return 1.0;
+  if (x == 0.0) return 0.0;
+  double result = 1.0;
+  for (double w = x; n != 0; n >>= 1, w *= w)
+    if (n & 1) result *= w;
+  return result;
+}
+
+// Effective modulus and shear modulus of two identical materials, LAMMPS' mixing rules.
+double mix_e(double e1, double e2, double nu1, double nu2)
+{
+  return 1 / ((1 - nu1 * nu1) / e1 + (1 - nu2 * nu2) / e2);
+}
+double mix_g(double e1, double e2, double nu1, double nu2)
+{
+  return 1 / ((2 * (2 - nu1) * (1 + nu1) / e1) + (2 * (2 - nu2) * (1 + nu2) / e2));
+}
+
+rsl_sphere sphere(const double *x, const double *v, const double *w, double r)
+{
+  rsl_sphere s;
+  s.position = {x[0], x[1], x[2]};
+  s.velocity = {v[0], v[1], v[2]};
+  s.angular_velocity = {w[0], w[1], w[2]};
+  s.radius = r;
+  return s;
+}
+
+}    // namespace
+
+bool PairGranularRollslide::Coeffs::operator==(const Coeffs &o) const
+{
+  return normal == o.normal && kn == o.kn && damp == o.damp && emod == o.emod &&
+      poisson == o.poisson && damping == o.damping && tangential == o.tangential && kt == o.kt &&
+      xgammat == o.xgammat && mu_s == o.mu_s && rolling == o.rolling && kr == o.kr &&
+      gr == o.gr && mu_r == o.mu_r && twist == o.twist && ktw == o.ktw && gtw == o.gtw &&
+      mu_tw == o.mu_tw && limit_damping == o.limit_damping && cutoff == o.cutoff;
+}
+
+PairGranularRollslide::PairGranularRollslide(LAMMPS *lmp) : Pair(lmp)
+{
+  single_enable = 0;
+  restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
+  no_virial_fdotr_compute = 1;    // the list is newton off: tallied per pair
+  finitecutflag = 1;
+  // The history fix is created here, before the input's other fixes, so that its
+  // pre_exchange() runs before any fix that moves or deletes atoms in theirs (as LAMMPS'
+  // pair granular places its own history fix). A restart file's history is read when the fix
+  // is created (same ID and style).
+  modify->add_fix(std::string(FixRollslideHistory::ID) + " all " + FixRollslideHistory::STYLE);
+  history = static_cast<FixRollslideHistory *>(modify->fix[modify->find_fix(FixRollslideHistory::ID)]);
+  history->pair = this;
+}
+
+PairGranularRollslide::~PairGranularRollslide()
+{
+  free_models();
+  if (modify->find_fix(FixRollslideHistory::ID) >= 0) modify->delete_fix(FixRollslideHistory::ID);
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+  }
+}
+
+void PairGranularRollslide::fail(const std::string &message)
+{
+  error->all(FLERR, std::string("pair_style granular/rollslide: ") + message);
+}
+
+void PairGranularRollslide::library_error(const char *call, int32_t status, tagint id1, tagint id2)
+{
+  // error->one: the failing contact is on this rank only.
+  error->one(FLERR,
+             std::string("pair_style granular/rollslide: ") + call + " failed for the contact of atoms " +
+                 std::to_string(id1) + " and " + std::to_string(id2) + ": " + rsl_status_str(status) +
+                 " (" + rsl_last_error_message() + ")");
+}
+
+void PairGranularRollslide::free_models()
+{
+  for (rsl_model *&m : models) {
+    rsl_model_free(m);
+    m = nullptr;
+  }
+}
+
+void PairGranularRollslide::allocate()
+{
+  allocated = 1;
+  ntypes = atom->ntypes;
+  int n = ntypes;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++) setflag[i][j] = 0;
+  coeffs.assign((n + 1) * (n + 1), Coeffs());
+  models.assign((n + 1) * (n + 1), nullptr);
+  maxrad.assign(n + 1, 0.0);
+}
+
+void PairGranularRollslide::settings(int narg, char **arg)
+{
+  if (narg > 1) fail("expected `pair_style granular/rollslide [objective|lammps]`");
+  preset = RSL_PRESET_OBJECTIVE;
+  if (narg == 1) {
+    if (strcmp(arg[0], "lammps") == 0)
+      preset = RSL_PRESET_LAMMPS_2021;
+    else if (strcmp(arg[0], "objective") != 0)
+      fail(std::string("unknown keyword '") + arg[0] + "' (expected objective or lammps)");
+  }
+}
+
+// pair_coeff I J <pair granular's keywords for the supported subset>
+void PairGranularRollslide::coeff(int narg, char **arg)
+{
+  if (narg < 2) fail("pair_coeff needs two types");
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  Coeffs c;
+  bool has_normal = false, has_tangential = false, kt_null = false;
+  auto need = [&](int iarg, int n, const char *what) {
+    if (iarg + n >= narg)
+      fail(std::string("pair_coeff: not enough parameters for '") + what + "'");
+  };
+  auto num = [&](int k) { return utils::numeric(FLERR, arg[k], false, lmp); };
+  int iarg = 2;
+  while (iarg < narg) {
+    const char *kw = arg[iarg];
+    if (strcmp(kw, "hooke") == 0 || strcmp(kw, "hertz") == 0) {
+      need(iarg, 2, kw);
+      c.normal = strcmp(kw, "hooke") == 0 ? HOOKE : HERTZ;
+      c.kn = num(iarg + 1);
+      c.damp = num(iarg + 2);
+      has_normal = true;
+      iarg += 3;
+    } else if (strcmp(kw, "hertz/material") == 0) {
+      need(iarg, 3, kw);
+      c.normal = HERTZ_MATERIAL;
+      c.emod = num(iarg + 1);
+      c.damp = num(iarg + 2);
+      c.poisson = num(iarg + 3);
+      has_normal = true;
+      iarg += 4;
+    } else if (strcmp(kw, "damping") == 0) {
+      need(iarg, 1, kw);
+      const char *d = arg[iarg + 1];
+      if (strcmp(d, "velocity") == 0) c.damping = VELOCITY;
+      else if (strcmp(d, "mass_velocity") == 0) c.damping = MASS_VELOCITY;
+      else if (strcmp(d, "viscoelastic") == 0) c.damping = VISCOELASTIC;
+      else if (strcmp(d, "tsuji") == 0) c.damping = TSUJI;
+      else fail(std::string("pair_coeff: damping model '") + d + "' is not supported");
+      iarg += 2;
+    } else if (strcmp(kw, "tangential") == 0) {
+      need(iarg, 1, kw);
+      const char *t = arg[iarg + 1];
+      if (strcmp(t, "linear_history") == 0) c.tangential = LINEAR_HISTORY;
+      else if (strcmp(t, "mindlin") == 0) c.tangential = MINDLIN;
+      else fail(std::string("pair_coeff: tangential model '") + t + "' is not supported");
+      need(iarg, 4, t);
+      if (c.tangential == MINDLIN && strcmp(arg[iarg + 2], "NULL") == 0) kt_null = true;
+      else c.kt = num(iarg + 2);
+      c.xgammat = num(iarg + 3);
+      c.mu_s = num(iarg + 4);
+      has_tangential = true;
+      iarg += 5;
+    } else if (strcmp(kw, "rolling") == 0) {
+      need(iarg, 1, kw);
+      if (strcmp(arg[iarg + 1], "none") == 0) {
+        c.rolling = false;
+        iarg += 2;
+      } else if (strcmp(arg[iarg + 1], "sds") == 0) {
+        need(iarg, 4, "rolling sds");
+        c.rolling = true;
+        c.kr = num(iarg + 2);
+        c.gr = num(iarg + 3);
+        c.mu_r = num(iarg + 4);
+        iarg += 5;
+      } else
+        fail(std::string("pair_coeff: rolling model '") + arg[iarg + 1] + "' is not supported");
+    } else if (strcmp(kw, "twisting") == 0) {
+      need(iarg, 1, kw);
+      if (strcmp(arg[iarg + 1], "none") == 0) {
+        c.twist = TWIST_NONE;
+        iarg += 2;
+      } else if (strcmp(arg[iarg + 1], "marshall") == 0) {
+        c.twist = TWIST_MARSHALL;
+        iarg += 2;
+      } else if (strcmp(arg[iarg + 1], "sds") == 0) {
+        need(iarg, 4, "twisting sds");
+        c.twist = TWIST_SDS;
+        c.ktw = num(iarg + 2);
+        c.gtw = num(iarg + 3);
+        c.mu_tw = num(iarg + 4);
+        iarg += 5;
+      } else
+        fail(std::string("pair_coeff: twisting model '") + arg[iarg + 1] + "' is not supported");
+    } else if (strcmp(kw, "cutoff") == 0) {
+      need(iarg, 1, kw);
+      c.cutoff = num(iarg + 1);
+      iarg += 2;
+    } else if (strcmp(kw, "limit_damping") == 0) {
+      c.limit_damping = true;
+      iarg += 1;
+    } else {
+      fail(std::string("pair_coeff: keyword '") + kw +
+           "' is not supported (normal hooke, hertz, hertz/material; damping velocity, "
+           "mass_velocity, viscoelastic, tsuji; tangential linear_history, mindlin; rolling "
+           "sds; twisting sds, marshall; cutoff; limit_damping)");
+    }
+  }
+  if (!has_normal || !has_tangential)
+    fail("pair_coeff: a normal model and a tangential model are required");
+  if (kt_null && c.normal != HERTZ_MATERIAL)
+    fail("pair_coeff: NULL tangential stiffness needs the hertz/material normal model");
+  // As pair granular stores them.
+  if (c.damping == TSUJI) {
+    double cor = c.damp;
+    c.damp = 1.2728 - 4.2783 * cor + 11.087 * cor * cor - 22.348 * (cor * cor * cor) +
+        27.467 * power(cor, 4) - 18.022 * power(cor, 5) + 4.8218 * power(cor, 6);
+  }
+  if (c.normal == HERTZ_MATERIAL) c.kn = 4.0 / 3.0 * mix_e(c.emod, c.emod, c.poisson, c.poisson);
+  if (kt_null) c.kt = 8 * mix_g(c.emod, c.emod, c.poisson, c.poisson);
+  c.set = true;
+
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++)
+    for (int j = (jlo > i ? jlo : i); j <= jhi; j++) {
+      at(i, j) = c;
+      at(j, i) = c;
+      setflag[i][j] = 1;
+      count++;
+    }
+  if (count == 0) fail("pair_coeff: no type pair set");
+}
+
+void PairGranularRollslide::init_style()
+{
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    fail("needs atom_style sphere (radius, rmass, omega, torque)");
+  if (comm->ghost_velocity == 0) fail("needs ghost atoms to store velocities (comm_modify vel yes)");
+  if (atom->tag_enable == 0) fail("needs atom IDs");
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i]->rigid_flag)
+      fail(std::string("rigid bodies (fix ") + modify->fix[i]->style + ") are not supported");
+
+  // A newton off list sized by the particle radii, whatever newton_pair says.
+  int irequest = neighbor->request(this, instance_me);
+  neighbor->requests[irequest]->size = 1;
+  neighbor->requests[irequest]->newton = 2;
+
+  dt = update->dt;
+
+  int ifreeze = modify->find_fix_by_style("^freeze");
+  freeze_group_bit = ifreeze < 0 ? 0 : modify->fix[ifreeze]->groupbit;
+
+  // Largest radius per type, including the particles fix pour / fix deposit will insert.
+  std::vector<double> local(ntypes + 1, 0.0);
+  for (int ifix = 0; ifix < modify->nfix; ifix++) {
+    const char *style = modify->fix[ifix]->style;
+    if (strncmp(style, "pour", 4) != 0 && strncmp(style, "deposit", 7) != 0) continue;
+    for (int t = 1; t <= ntypes; t++) {
+      int itype = t;
+      double *r = static_cast<double *>(modify->fix[ifix]->extract("radius", itype));
+      if (r && *r > local[t]) local[t] = *r;
+    }
+  }
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->radius[i] > local[atom->type[i]]) local[atom->type[i]] = atom->radius[i];
+  MPI_Allreduce(local.data(), maxrad.data(), ntypes + 1, MPI_DOUBLE, MPI_MAX, world);
+
+  // Unset cross pairs: the same coefficients on both sides only (no mixing rules).
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = i + 1; j <= ntypes; j++)
+      if (!setflag[i][j]) {
+        if (!at(i, i).set || !at(j, j).set || !(at(i, i) == at(j, j)))
+          fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) +
+               " must be given (coefficients are not mixed)");
+        at(i, j) = at(j, i) = at(i, i);
+      }
+
+  // One library model per type pair.
+  free_models();
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = 1; j <= ntypes; j++) {
+      const Coeffs &c = at(i, j);
+      if (!c.set) fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) + " is missing");
+      rsl_model *m = nullptr;
+      int32_t st = rsl_model_new(preset, &m);
+      // The sliding dashpot is per contact (xgammat times the normal damping prefactor),
+      // except with `damping velocity`, where it is the constant xgammat eta_n.
+      double gamma_t = c.damping == VELOCITY ? c.xgammat * c.damp : 0.0;
+      if (st == RSL_OK) st = rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, c.kt, gamma_t, c.mu_s);
+      if (st == RSL_OK && c.rolling) {
+        rsl_rolling_params p;
+        st = rsl_model_get_rolling(m, &p);
+        p.law = RSL_ROLLING_EPSD;
+        p.form = RSL_FORM_LENGTH;
+        p.stiffness_rule = RSL_STIFFNESS_GIVEN;
+        p.damping_rule = RSL_DAMPING_GIVEN;
+        p.damping_mode = RSL_DAMPING_ALWAYS;
+        p.stiffness = c.kr;
+        p.damping = c.gr;
+        p.friction = c.mu_r;
+        if (st == RSL_OK) st = rsl_model_set_rolling(m, &p);
+      }
+      if (st == RSL_OK && c.twist == TWIST_SDS)
+        st = rsl_model_set_twisting(m, RSL_TWISTING_SDS, c.ktw, c.gtw, c.mu_tw);
+      if (st == RSL_OK && c.twist == TWIST_MARSHALL)
+        st = rsl_model_set_twisting(m, RSL_TWISTING_MARSHALL, 0.0, 0.0, 0.0);
+      if (st != RSL_OK) {
+        rsl_model_free(m);
+        fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) +
+             ": the library refused the coefficients: " + rsl_status_str(st) + " (" +
+             rsl_last_error_message() + ")");
+      }
+      models[i * (ntypes + 1) + j] = m;
+    }
+
+  pending.reserve(CHUNK);
+  body1.resize(CHUNK);
+  body2.resize(CHUNK);
+  normal_force.resize(CHUNK);
+  chunk_state.resize(CHUNK);
+  chunk_loads.resize(CHUNK);
+}
+
+double PairGranularRollslide::init_one(int i, int j)
+{
+  const Coeffs &c = at(i, j);
+  if (c.cutoff >= 0.0) return c.cutoff;
+  double cut = maxrad[i] + maxrad[j];
+  return cut > 0.0 ? cut : 0.0;
+}
+
+void PairGranularRollslide::apply(int i, int j, const double del[3], const rsl_vec3 &force1,
+                                  const rsl_vec3 &torque1, const rsl_vec3 &torque2)
+{
+  double **f = atom->f;
+  double **torque = atom->torque;
+  const int nlocal = atom->nlocal;
+  f[i][0] += force1.x;
+  f[i][1] += force1.y;
+  f[i][2] += force1.z;
+  torque[i][0] += torque1.x;
+  torque[i][1] += torque1.y;
+  torque[i][2] += torque1.z;
+  // A ghost j's owner computes this contact itself (newton off list).
+  if (j < nlocal) {
+    f[j][0] -= force1.x;
+    f[j][1] -= force1.y;
+    f[j][2] -= force1.z;
+    torque[j][0] += torque2.x;
+    torque[j][1] += torque2.y;
+    torque[j][2] += torque2.z;
+  }
+  if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, force1.x, force1.y, force1.z, del[0], del[1], del[2]);
+}
+
+// Steps the pending contacts in one rsl_batch_step_contacts call, then applies their loads in
+// neighbour-list order.
+void PairGranularRollslide::flush(int, int)
+{
+  const int n = static_cast<int>(pending.size());
+  if (n == 0) return;
+  for (int k = 0; k < n; k++) chunk_state[k] = history->state[pending[k].e];
+  rsl_batch_report report;
+  int32_t st = rsl_batch_step_contacts(chunk_model, body1.data(), body2.data(), n,
+                                       normal_force.data(), nullptr, dt, nullptr,
+                                       chunk_state.data(), chunk_loads.data(), &report);
+  if (st != RSL_OK) {
+    size_t bad = report.first_failed < (uint64_t) n ? report.first_failed : 0;
+    library_error("rsl_batch_step_contacts", st, atom->tag[pending[bad].i], atom->tag[pending[bad].j]);
+  }
+  for (int k = 0; k < n; k++) {
+    const Pending &p = pending[k];
+    history->state[p.e] = chunk_state[k];
+    apply(p.i, p.j, p.del, chunk_loads[k].force1, chunk_loads[k].torque1, chunk_loads[k].torque2);
+  }
+  pending.clear();
+}
+
+void PairGranularRollslide::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  history->ensure_entries();
+  dt = update->dt;
+  const bool setup = update->setupflag != 0;
+
+  double **x = atom->x;
+  double **v = atom->v;
+  double **omega = atom->omega;
+  double *radius = atom->radius;
+  double *rmass = atom->rmass;
+  int *type = atom->type;
+  int *mask = atom->mask;
+  tagint *tag = atom->tag;
+
+  const int inum = list->inum;
+  int *ilist = list->ilist;
+  int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  unsigned char *touch = history->touch.data();
+  rsl_contact_state *states = history->state.data();
+  pending.clear();
+  chunk_model = nullptr;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const int itype = type[i];
+    const double radi = radius[i];
+    int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    const bigint base = history->first[ii];
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const bigint e = base + jj;
+      const double delx = x[i][0] - x[j][0];
+      const double dely = x[i][1] - x[j][1];
+      const double delz = x[i][2] - x[j][2];
+      const double rsq = delx * delx + dely * dely + delz * delz;
+      const double radj = radius[j];
+      const double radsum = radi + radj;
+      if (rsq >= radsum * radsum) {
+        // Not touching: the contact (if any) ends and its history is dropped, as LAMMPS does.
+        if (touch[e]) {
+          touch[e] = 0;
+          rsl_contact_state_init(&states[e]);
+        }
+        continue;
+      }
+      const int jtype = type[j];
+      const Coeffs &c = at(itype, jtype);
+
+      // The normal force, as pair granular computes it (n from j to i here).
+      const double r = sqrt(rsq);
+      const double rinv = 1.0 / r;
+      const double nx = delx * rinv, ny = dely * rinv, nz = delz * rinv;
+      const double vnnr =
+          (v[i][0] - v[j][0]) * nx + (v[i][1] - v[j][1]) * ny + (v[i][2] - v[j][2]) * nz;
+      double mi = rmass[i], mj = rmass[j];
+      double meff = mi * mj / (mi + mj);
+      if (mask[i] & freeze_group_bit) meff = mj;
+      if (mask[j] & freeze_group_bit) meff = mi;
+      const double Reff = radi * radj / radsum;
+      const double delta = radsum - r;
+      const double dR = delta * Reff;
+      double knfac = c.kn;
+      double Fne = knfac * delta;
+      const double a = sqrt(dR);
+      if (c.normal != HOOKE) {
+        Fne *= a;
+        knfac *= a;
+      }
+      double damp_normal;
+      switch (c.damping) {
+        case VELOCITY: damp_normal = 1; break;
+        case MASS_VELOCITY: damp_normal = meff; break;
+        case VISCOELASTIC: damp_normal = a * meff; break;
+        default: damp_normal = sqrt(meff * knfac); break;
+      }
+      const double damp_normal_prefactor = c.damp * damp_normal;
+      double Fntot = Fne + (-damp_normal_prefactor * vnnr);
+      if (c.limit_damping && Fntot < 0.0) Fntot = 0.0;
+
+      touch[e] = 1;
+      const rsl_model *m = model(itype, jtype);
+      const rsl_sphere s1 = sphere(x[i], v[i], omega[i], radi);
+      const rsl_sphere s2 = sphere(x[j], v[j], omega[j], radj);
+      const bool per_contact = setup || c.damping != VELOCITY || c.tangential != LINEAR_HISTORY;
+      if (!per_contact) {
+        // Gathered for one rsl_batch_step_contacts call per chunk (one model per chunk).
+        if (m != chunk_model || pending.size() == (size_t) CHUNK) {
+          flush(eflag, vflag);
+          chunk_model = m;
+        }
+        const int k = static_cast<int>(pending.size());
+        pending.push_back({i, j, e, {delx, dely, delz}});
+        body1[k] = s1;
+        body2[k] = s2;
+        normal_force[k] = Fntot;
+        continue;
+      }
+      // Per contact: the setup pass, a per-contact sliding dashpot or stiffness.
+      flush(eflag, vflag);
+      rsl_contact_input in;
+      memset(&in, 0, sizeof in);
+      in.normal_force = Fntot;
+      in.dt = dt;
+      if (setup) in.flags |= RSL_INPUT_SETUP;
+      if (c.damping != VELOCITY) {
+        in.flags |= RSL_INPUT_SLIDING_DAMPING;
+        in.sliding_damping = c.xgammat * damp_normal_prefactor;
+      }
+      if (c.tangential == MINDLIN) {
+        in.flags |= RSL_INPUT_SLIDING_STIFFNESS;
+        in.sliding_stiffness = c.kt * a;
+      }
+      rsl_contact_loads out;
+      int32_t st = rsl_contact_step(m, &s1, &s2, &in, &states[e], &out);
+      if (st != RSL_OK) library_error("rsl_contact_step", st, tag[i], tag[j]);
+      const double del[3] = {delx, dely, delz};
+      apply(i, j, del, out.force1, out.torque1, out.torque2);
+    }
+  }
+  flush(eflag, vflag);
+}
+
+double PairGranularRollslide::memory_usage()
+{
+  return (double) CHUNK * (2 * sizeof(rsl_sphere) + sizeof(double) + sizeof(rsl_contact_state) +
+                           sizeof(rsl_batch_loads) + sizeof(Pending));
+}

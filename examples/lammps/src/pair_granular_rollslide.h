@@ -1,0 +1,96 @@
+// pair_style granular/rollslide [objective|lammps]
+//
+// LAMMPS' pair_style granular (20220106) for the subset: normal hooke | hertz | hertz/material,
+// damping velocity | mass_velocity | viscoelastic | tsuji, tangential linear_history | mindlin,
+// rolling sds, twisting sds | marshall, limit_damping, cutoff. The normal force is computed
+// here as LAMMPS computes it; the sliding, rolling and twisting loads come from rollslide:
+// `lammps` = RSL_PRESET_LAMMPS_2021 (LAMMPS' own definitions, step by step), `objective` (the
+// default) = the library's objective definitions with the same coefficients.
+#ifndef ROLLSLIDE_PAIR_GRANULAR_ROLLSLIDE_H
+#define ROLLSLIDE_PAIR_GRANULAR_ROLLSLIDE_H
+
+#include "pair.h"
+#include "rollslide.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixRollslideHistory;
+
+class PairGranularRollslide : public Pair {
+ public:
+  PairGranularRollslide(class LAMMPS *);
+  ~PairGranularRollslide() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  double memory_usage() override;
+
+  // The model of a type pair (the swap of a state needs it).
+  const rsl_model *model(int itype, int jtype) const { return models[itype * (ntypes + 1) + jtype]; }
+  // A LAMMPS error naming the pair's atom IDs and the library's message; never returns.
+  [[noreturn]] void library_error(const char *call, int32_t status, tagint id1, tagint id2);
+  [[noreturn]] void fail(const std::string &message);
+
+  enum Normal { HOOKE, HERTZ, HERTZ_MATERIAL };
+  enum Damping { VELOCITY, MASS_VELOCITY, VISCOELASTIC, TSUJI };
+  enum Tangential { LINEAR_HISTORY, MINDLIN };
+  enum Twist { TWIST_NONE, TWIST_SDS, TWIST_MARSHALL };
+
+  struct Coeffs {
+    bool set = false;
+    int normal = HOOKE;
+    double kn = 0.0;         // LAMMPS' normal_coeffs[0] (hertz/material: 4/3 E*)
+    double damp = 0.0;       // eta_n (tsuji: from the restitution coefficient)
+    double emod = 0.0, poisson = 0.0;
+    int damping = VISCOELASTIC;
+    int tangential = LINEAR_HISTORY;
+    double kt = 0.0, xgammat = 0.0, mu_s = 0.0;
+    bool rolling = false;
+    double kr = 0.0, gr = 0.0, mu_r = 0.0;
+    int twist = TWIST_NONE;
+    double ktw = 0.0, gtw = 0.0, mu_tw = 0.0;
+    bool limit_damping = false;
+    double cutoff = -1.0;
+    bool operator==(const Coeffs &o) const;
+  };
+
+ private:
+  int preset = RSL_PRESET_OBJECTIVE;
+  int ntypes = 0;
+  std::vector<Coeffs> coeffs;        // (ntypes+1)^2
+  std::vector<rsl_model *> models;   // (ntypes+1)^2, built by init_style
+  std::vector<double> maxrad;        // per type
+  FixRollslideHistory *history = nullptr;
+  int freeze_group_bit = 0;
+  double dt = 0.0;
+
+  // One chunk of contacts for rsl_batch_step_contacts.
+  static constexpr int CHUNK = 128;
+  struct Pending {
+    int i, j;
+    bigint e;
+    double del[3];
+  };
+  std::vector<Pending> pending;
+  std::vector<rsl_sphere> body1, body2;
+  std::vector<double> normal_force;
+  std::vector<rsl_contact_state> chunk_state;
+  std::vector<rsl_batch_loads> chunk_loads;
+  const rsl_model *chunk_model = nullptr;
+
+  Coeffs &at(int i, int j) { return coeffs[i * (ntypes + 1) + j]; }
+  void allocate();
+  void free_models();
+  void flush(int eflag, int vflag);
+  void apply(int i, int j, const double del[3], const rsl_vec3 &force1, const rsl_vec3 &torque1,
+             const rsl_vec3 &torque2);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
