@@ -269,3 +269,75 @@ void test_batch_packed_histories(void) {
         rsl_model_free(m);
     }
 }
+
+/* rsl_batch_step_contacts_params: per-contact k_t and gamma_t equal to rsl_contact_step with
+ * RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING, bit for bit in double; a negative
+ * k_t skips its contact with rsl_contact_step's status; NULL params is the plain call. */
+void test_batch_contact_params(void) {
+    rsl_sphere p[NP];
+    uint32_t pairs[2 * NC];
+    double fn[NC];
+    scene(p, pairs, fn);
+    rsl_model *m = full_model();
+    const double dt = 1e-4;
+    double kt[NC], gt[NC];
+    rsl_sphere b1[NC], b2[NC];
+    for (int c = 0; c < NC; c++) {
+        kt[c] = 2e4 * (c + 1);
+        gt[c] = 0.5 * c;
+        b1[c] = p[pairs[2 * c]];
+        b2[c] = p[pairs[2 * c + 1]];
+    }
+    rsl_contact_state sr[NC], sb[NC];
+    memset(sr, 0, sizeof sr);
+    memset(sb, 0, sizeof sb);
+    rsl_batch_loads out[NC];
+    rsl_batch_contact_params params = {kt, gt};
+    rsl_contact_loads ref[NC];
+    for (int step = 0; step < 3; step++) {
+        for (int c = 0; c < NC; c++) {
+            rsl_contact_input in;
+            memset(&in, 0, sizeof in);
+            in.normal_force = fn[c];
+            in.dt = dt;
+            in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
+            in.sliding_stiffness = kt[c];
+            in.sliding_damping = gt[c];
+            rsl_contact_loads l;
+            CHECK_STATUS(rsl_contact_step(m, &b1[c], &b2[c], &in, &sr[c], &l), RSL_OK);
+            if (step == 2) ref[c] = l;
+        }
+        CHECK_STATUS(rsl_batch_step_contacts_params(m, b1, b2, NC, fn, NULL, &params, dt, NULL,
+                                                    sb, out, NULL),
+                     RSL_OK);
+    }
+    for (int c = 0; c < NC; c++) {
+        CHECK(memcmp(&ref[c].force1, &out[c].force1, sizeof(rsl_vec3)) == 0);
+        CHECK(memcmp(&ref[c].torque2, &out[c].torque2, sizeof(rsl_vec3)) == 0);
+    }
+    /* the same histories after three steps */
+    for (int c = 0; c < NC; c++) {
+        CHECK(memcmp(&sr[c].sliding_spring, &sb[c].sliding_spring, sizeof(rsl_vec3)) == 0);
+        CHECK(memcmp(&sr[c].rolling_spring, &sb[c].rolling_spring, sizeof(rsl_vec3)) == 0);
+        CHECK(sr[c].sliding_spring.x != 0.0);
+    }
+    /* the model's coefficients differ: without params the springs differ */
+    rsl_contact_state plain[NC];
+    memset(plain, 0, sizeof plain);
+    for (int step = 0; step < 3; step++)
+        CHECK_STATUS(rsl_batch_step_contacts_params(m, b1, b2, NC, fn, NULL, NULL, dt, NULL,
+                                                    plain, out, NULL),
+                     RSL_OK);
+    CHECK(plain[1].sliding_spring.x != sb[1].sliding_spring.x);
+    /* a negative k_t: that contact skipped, untouched */
+    kt[2] = -1.0;
+    rsl_contact_state before[NC];
+    memcpy(before, sb, sizeof sb);
+    rsl_batch_report rep;
+    CHECK_STATUS(rsl_batch_step_contacts_params(m, b1, b2, NC, fn, NULL, &params, dt, NULL, sb,
+                                                out, &rep),
+                 RSL_ERR_INVALID_ARGUMENT);
+    CHECK(rep.failed == 1 && rep.first_failed == 2 && rep.processed == NC - 1);
+    CHECK(memcmp(&before[2], &sb[2], sizeof sb[2]) == 0);
+    rsl_model_free(m);
+}

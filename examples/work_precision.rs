@@ -16,7 +16,7 @@
 //! (the SIMD level `RSL_SIMD_AUTO` picks, minimum of 7 calls).
 
 use nalgebra::{Rotation3, Unit};
-use rollslide::batch::{ContactDecompose, ContactSteps};
+use rollslide::batch::{ContactDecompose, ContactSteps, SlidingOverrides};
 use rollslide::capi::batch::{rsl_batch_loads, run_decompose, run_step, BatchConfig};
 use rollslide::capi::contact::rsl_contact_state;
 use rollslide::capi::types::{rsl_sphere, rsl_vec3};
@@ -72,6 +72,7 @@ fn step1(
         normal_stiffness: None,
         states: &mut st,
         out: &mut out,
+        sliding: SlidingOverrides::NONE,
     };
     let (r, _) = run_step(model, dt, &mut a, config(f32)).unwrap();
     assert_eq!(r.failed, 0, "{:?}", r.first_error);
@@ -289,6 +290,7 @@ fn time_step(m: &Model, f32: bool) -> f64 {
             normal_stiffness: None,
             states: &mut states,
             out: &mut out,
+            sliding: SlidingOverrides::NONE,
         };
         let t0 = Instant::now();
         run_step(m, 1e-4, &mut a, config(f32)).unwrap();

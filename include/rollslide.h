@@ -429,6 +429,18 @@ typedef struct rsl_batch_loads {
   struct rsl_vec3 torque2;
 } rsl_batch_loads;
 
+// Per-contact coefficients of `rsl_batch_step_contacts_params`, used instead of the model's
+// (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS` and
+// `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
+// contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin. Each pointer is NULL (the
+// model's value for every contact) or an array of one value per contact.
+typedef struct rsl_batch_contact_params {
+  // Sliding stiffness `k_t` per contact (force/length, finite, >= 0), or NULL.
+  const double *sliding_stiffness;
+  // Sliding damping `gamma_t` per contact (force/velocity, finite, >= 0), or NULL.
+  const double *sliding_damping;
+} rsl_batch_contact_params;
+
 // Options of a decomposition. Pass NULL for the defaults (midplane, exact rolling radius,
 // every part), or start from `rsl_decompose_options_default()`.
 typedef struct rsl_decompose_options {
@@ -682,6 +694,8 @@ typedef struct rsl_rolling_params {
 
 
 
+
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -812,6 +826,28 @@ int32_t rsl_batch_step_contacts(const struct rsl_model *model,
                                 struct rsl_contact_state *states,
                                 struct rsl_batch_loads *out,
                                 struct rsl_batch_report *report);
+
+// As `rsl_batch_step_contacts`, with per-contact coefficients (`params`, NULL for none): a
+// contact whose `k_t` or `gamma_t` is negative or not finite is skipped as invalid (status
+// `RSL_ERR_INVALID_ARGUMENT` or `RSL_ERR_NON_FINITE`, as `rsl_contact_step` gives). In double
+// precision the results equal `rsl_contact_step`'s with `RSL_INPUT_SLIDING_STIFFNESS` and
+// `RSL_INPUT_SLIDING_DAMPING` bit for bit.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// As `rsl_batch_step_contacts`; `params` NULL or readable, its non-NULL arrays holding `n`
+// values.
+int32_t rsl_batch_step_contacts_params(const struct rsl_model *model,
+                                       const struct rsl_sphere *body1,
+                                       const struct rsl_sphere *body2,
+                                       size_t n,
+                                       const double *normal_force,
+                                       const double *normal_stiffness,
+                                       const struct rsl_batch_contact_params *params,
+                                       double dt,
+                                       const struct rsl_batch_options *options,
+                                       struct rsl_contact_state *states,
+                                       struct rsl_batch_loads *out,
+                                       struct rsl_batch_report *report);
 
 // Decomposes many sphere-sphere contacts (particle-major): contact `c` joins particles
 // `pairs[2c]` and `pairs[2c+1]`; `out[c]` receives its decomposition (as `rsl_decompose`

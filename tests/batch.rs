@@ -5,7 +5,7 @@ mod common;
 
 use common::{full_model, scene_models, Rng};
 use rollslide::batch::history::{history_words, words_from_state};
-use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene};
+use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene, SlidingOverrides};
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use rollslide::capi::contact::rsl_contact_state;
@@ -226,6 +226,7 @@ fn contact_major_matches_per_contact_step() {
                 normal_stiffness: None,
                 states: &mut states,
                 out: &mut out,
+                sliding: SlidingOverrides::NONE,
             };
             let (report, ran) = run_step(&model, dt, &mut access, config).unwrap();
             assert_eq!(report.failed, 0, "{config:?}: {:?}", report.first_error);
@@ -545,6 +546,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             normal_stiffness: None,
             states: &mut states,
             out: &mut out,
+            sliding: SlidingOverrides::NONE,
         };
         let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
         // Contact 13's default (zero-radius) body fails as an invalid radius here.
@@ -702,6 +704,7 @@ fn underflowing_centre_distance_is_refused_in_every_kernel() {
             normal_stiffness: None,
             states: &mut states,
             out: &mut out,
+            sliding: SlidingOverrides::NONE,
         };
         let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
         assert_eq!(report.failed, 1, "{config:?}");
@@ -834,4 +837,98 @@ fn step_packed<const W: usize>(
         torque,
         records: records.iter().map(|r| r.0.to_vec()).collect(),
     }
+}
+
+/// Per-contact sliding stiffness and damping (contact-major, `SlidingOverrides`) against the
+/// per-contact checked step with the same overrides: bit for bit in double precision at every
+/// level and scene kernel (1e-4 of the scale in single); a contact with a negative or
+/// non-finite `k_t` or `gamma_t` is skipped with the checked step's error and its state and
+/// loads untouched. Each array is tested alone and with the other.
+#[test]
+fn per_contact_sliding_coefficients_match_the_checked_step() {
+    let dt = 1e-4;
+    let sc = scenario(40, 150, 31);
+    let mut rng = Rng::new(7);
+    let n = sc.pairs.len();
+    let mut k_t: Vec<f64> = (0..n).map(|_| rng.uniform(0.0, 4e4)).collect();
+    let mut gamma_t: Vec<f64> = (0..n).map(|_| rng.uniform(0.0, 20.0)).collect();
+    k_t[11] = -1.0;
+    k_t[12] = f64::NAN;
+    gamma_t[40] = f64::INFINITY;
+    gamma_t[41] = -0.5;
+    let body = |c: usize, k: usize| sc.particles[sc.pairs[c][k] as usize];
+    let body1: Vec<rsl_sphere> = (0..n).map(|c| body(c, 0)).collect();
+    let body2: Vec<rsl_sphere> = (0..n).map(|c| body(c, 1)).collect();
+    let mut tested = 0;
+    for (model, scene) in models() {
+        for (use_k, use_g) in [(true, false), (false, true), (true, true)] {
+            let sliding = SlidingOverrides {
+                stiffness: use_k.then_some(&k_t[..]),
+                damping: use_g.then_some(&gamma_t[..]),
+            };
+            // Reference: the checked step with the same overrides.
+            let mut expected = Vec::new();
+            let mut first_error = None;
+            for c in 0..n {
+                let mut input = StepInput::new(sc.normal_force[c], dt);
+                (input.sliding_stiffness, input.sliding_damping) = sliding.at(c);
+                let mut s = ContactState::from(&sc.states[c]);
+                let r = contact_step_pair(
+                    &model,
+                    &Sphere::from(&body1[c]),
+                    &Sphere::from(&body2[c]),
+                    &input,
+                    &mut s,
+                );
+                if let Err(e) = &r {
+                    first_error.get_or_insert((c, e.clone()));
+                }
+                expected.push(r.ok().map(|o| (o.loads, s)));
+            }
+            for config in configs() {
+                let what = format!("{scene:?} {config:?} k_t {use_k} gamma_t {use_g}");
+                let mut states = sc.states.clone();
+                let mut out = vec![rsl_batch_loads::default(); n];
+                let mut access = ContactSteps {
+                    body1: &body1,
+                    body2: &body2,
+                    normal_force: &sc.normal_force,
+                    normal_stiffness: None,
+                    states: &mut states,
+                    out: &mut out,
+                    sliding,
+                };
+                access.check().unwrap();
+                let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+                let (c0, e0) = first_error.clone().unwrap();
+                assert_eq!(report.first_failed, Some(c0), "{what}");
+                assert_eq!(report.first_error, Some(e0), "{what}");
+                let bad = expected.iter().filter(|e| e.is_none()).count();
+                assert_eq!((report.failed, report.processed), (bad, n - bad), "{what}");
+                for c in 0..n {
+                    let Some((loads, state)) = &expected[c] else {
+                        assert_eq!(out[c], rsl_batch_loads::default(), "{what}: {c} written");
+                        assert_eq!(states[c], sc.states[c], "{what}: {c} state written");
+                        continue;
+                    };
+                    let got = [out[c].force1, out[c].torque1, out[c].torque2];
+                    let want = [loads.force1, loads.torque1, loads.torque2];
+                    for (g, w) in got.iter().zip(want) {
+                        for (a, b) in [(g.x, w.x), (g.y, w.y), (g.z, w.z)] {
+                            if config.f32 {
+                                assert!(close(a, b, 1e-4, 1e-4), "{what}: {c}: {a} vs {b}");
+                            } else {
+                                assert_eq!(a.to_bits(), b.to_bits(), "{what}: contact {c}");
+                            }
+                        }
+                    }
+                    if !config.f32 {
+                        assert_eq!(ContactState::from(&states[c]), *state, "{what}: {c}");
+                    }
+                }
+                tested += 1;
+            }
+        }
+    }
+    assert!(tested > 0);
 }

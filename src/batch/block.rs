@@ -181,6 +181,9 @@ struct Block {
     body2: [Row; BODY_WORDS],
     normal_force: Row,
     normal_stiffness: Row,
+    /// Per-contact `k_t` and `gamma_t` (when the call gives them).
+    sliding_stiffness: Row,
+    sliding_damping: Row,
     /// The state in [`STATE_WORDS`] order. The step writes the new state over it.
     state: [Row; STATE_WORDS],
     /// Force on body 1 (3), torque on body 1 (3), torque on body 2 (3).
@@ -200,6 +203,8 @@ impl Block {
             body2: [[0.0; BLOCK]; BODY_WORDS],
             normal_force: [0.0; BLOCK],
             normal_stiffness: [1.0; BLOCK],
+            sliding_stiffness: [0.0; BLOCK],
+            sliding_damping: [0.0; BLOCK],
             state: [[0.0; BLOCK]; STATE_WORDS],
             loads: [[0.0; BLOCK]; 9],
             slip: [0; BLOCK],
@@ -266,6 +271,7 @@ fn gather<A: StepAccess, X: GroupCopy<A::P, A::State>>(
     b: &mut Block,
 ) {
     b.index_ok = 0;
+    let sliding = access.sliding_overrides();
     let mut g = 0;
     while g < count {
         let contact = |k: usize| c0 + (g + k).min(count - 1);
@@ -279,6 +285,12 @@ fn gather<A: StepAccess, X: GroupCopy<A::P, A::State>>(
             b.normal_force[i] = access.normal_force(c);
             if needs_kn {
                 b.normal_stiffness[i] = access.normal_stiffness(c);
+            }
+            if let Some(k) = sliding.stiffness {
+                b.sliding_stiffness[i] = k[c];
+            }
+            if let Some(gamma) = sliding.damping {
+                b.sliding_damping[i] = gamma[c];
             }
         }
         copy.bodies(
@@ -310,6 +322,8 @@ trait LaneSource<L: Lanes> {
     fn bodies(&self) -> (Sphere<L>, Sphere<L>);
     /// `f_n`, and `k_n` when `needs_kn` (else 1).
     fn forces(&self, needs_kn: bool) -> (L, L);
+    /// The per-contact `k_t` and `gamma_t`, each where `given` says the call has them.
+    fn sliding(&self, given: (bool, bool)) -> (Option<L>, Option<L>);
     /// The contacts' state.
     fn state(&self) -> ContactState<L>;
 }
@@ -349,6 +363,14 @@ impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
         (L::load(&b.normal_force[at..]), k_n)
     }
     #[inline(always)]
+    fn sliding(&self, given: (bool, bool)) -> (Option<L>, Option<L>) {
+        let (b, at) = (self.block, self.at);
+        (
+            given.0.then(|| L::load(&b.sliding_stiffness[at..])),
+            given.1.then(|| L::load(&b.sliding_damping[at..])),
+        )
+    }
+    #[inline(always)]
     fn state(&self) -> ContactState<L> {
         let (st, at) = (&self.block.state, self.at);
         ContactState {
@@ -367,6 +389,7 @@ struct Single {
     body2: Sphere<f64>,
     normal_force: f64,
     normal_stiffness: f64,
+    sliding: (Option<f64>, Option<f64>),
     state: ContactState<f64>,
 }
 
@@ -412,6 +435,11 @@ impl<L: Lanes> LaneSource<L> for Single {
         (L::from_fn(|_| self.normal_force), k_n)
     }
     #[inline(always)]
+    fn sliding(&self, _given: (bool, bool)) -> (Option<L>, Option<L>) {
+        let lanes = |v: Option<f64>| v.map(|v| L::from_fn(|_| v));
+        (lanes(self.sliding.0), lanes(self.sliding.1))
+    }
+    #[inline(always)]
     fn state(&self) -> ContactState<L> {
         let s = &self.state;
         ContactState {
@@ -445,6 +473,7 @@ fn inputs_ok<L: Lanes>(
     force: L,
     stiffness: L,
     needs_kn: bool,
+    sliding: (Option<L>, Option<L>),
     state: &ContactState<L>,
 ) -> L::SimdBool {
     let zero = L::zero();
@@ -464,6 +493,10 @@ fn inputs_ok<L: Lanes>(
     let mut ok = acc.simd_eq(zero);
     if needs_kn {
         ok = ok & stiffness.simd_gt(zero) & zf(stiffness).simd_eq(zero);
+    }
+    // Per-contact k_t and gamma_t: finite and >= 0, as the checked step requires.
+    for x in [sliding.0, sliding.1].into_iter().flatten() {
+        ok = ok & x.simd_ge(zero) & zf(x).simd_eq(zero);
     }
     ok
 }
@@ -500,9 +533,15 @@ fn results_ok<L: Lanes>(
 
 /// The step input of `L::N` contacts.
 #[inline(always)]
-fn step_input<L: Lanes>(force: L, stiffness: L, dt: f64) -> StepInput<L> {
+fn step_input<L: Lanes>(
+    force: L,
+    stiffness: L,
+    sliding: (Option<L>, Option<L>),
+    dt: f64,
+) -> StepInput<L> {
     let mut input = StepInput::new(force, L::from_fn(|_| dt));
     input.normal_stiffness = stiffness;
+    (input.sliding_stiffness, input.sliding_damping) = sliding;
     input
 }
 
@@ -514,6 +553,7 @@ fn step_inputs<L: Lanes>(
     model: &Model,
     dt: f64,
     needs_kn: bool,
+    given: (bool, bool),
     source: &impl LaneSource<L>,
 ) -> LaneResults<L> {
     debug_assert_eq!(
@@ -526,14 +566,15 @@ fn step_inputs<L: Lanes>(
     let geometry_ok = pair_geometry_valid(&p1, &p2, r1, r2, &g).bitmask();
     let (body1, body2) = source.bodies();
     let (force, stiffness) = source.forces(needs_kn);
+    let sliding = source.sliding(given);
     let mut state = source.state();
-    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, &state);
+    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, sliding, &state);
     let out = contact_step_with_geometry(
         model,
         geometry_in::<L>(&g, &g),
         &body1,
         Partner::Sphere(&body2),
-        &step_input(force, stiffness, dt),
+        &step_input(force, stiffness, sliding, dt),
         &mut state,
     );
     let results_ok = results_ok(model.track_energy, &out, &state);
@@ -590,21 +631,29 @@ fn moving<L: Lanes>(velocity: Vec3<L>, angular_velocity: Vec3<L>, radius: L) -> 
 /// LAMMPS set, edited builds of the bench driver). The compiler's output is sensitive to such
 /// shapes: rerun the in-cache benchmark at both SIMD levels after any change here.
 #[inline(always)]
-fn step_lanes<L: Lanes>(model: &Model, dt: f64, needs_kn: bool, at: usize, b: &mut Block) {
+fn step_lanes<L: Lanes>(
+    model: &Model,
+    dt: f64,
+    needs_kn: bool,
+    given: (bool, bool),
+    at: usize,
+    b: &mut Block,
+) {
     let src = RowsAt { block: b, at };
     let (p1, p2, r1, r2) = LaneSource::<L>::geometry(&src);
     let g = pair_geometry_unchecked(&p1, &p2, r1, r2, model.geometry);
     let geometry_ok = pair_geometry_valid(&p1, &p2, r1, r2, &g).bitmask();
     let (body1, body2) = LaneSource::<L>::bodies(&src);
     let (force, stiffness) = LaneSource::<L>::forces(&src, needs_kn);
+    let sliding = LaneSource::<L>::sliding(&src, given);
     let mut state = LaneSource::<L>::state(&src);
-    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, &state);
+    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, sliding, &state);
     let out = contact_step_with_geometry(
         model,
         geometry_in::<L>(&g, &g),
         &body1,
         Partner::Sphere(&body2),
-        &step_input(force, stiffness, dt),
+        &step_input(force, stiffness, sliding, dt),
         &mut state,
     );
     let l = &out.loads;
@@ -659,9 +708,10 @@ fn step_one<L: Lanes, A: StepAccess>(
         } else {
             1.0
         },
+        sliding: access.sliding_overrides().at(c),
         state: access.state_ref(c).load(),
     };
-    let r = step_inputs::<L>(model, dt, needs_kn, &single);
+    let r = step_inputs::<L>(model, dt, needs_kn, (false, false), &single);
     if index_ok && r.valid & 1 == 1 {
         let f64s = |v: &Vec3<L>| Vec3::new(v.x.lane(0), v.y.lane(0), v.z.lane(0));
         let arr = |v: &Vec3<L>| [v.x.lane(0), v.y.lane(0), v.z.lane(0)];
@@ -708,6 +758,7 @@ fn refuse<A: StepAccess>(
             } else {
                 1.0
             },
+            access.sliding_overrides().at(c),
             &access.state_ref(c).load(),
         )
     });
@@ -784,6 +835,8 @@ pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess, X: GroupCopy<A::P, A::S
         }
         return report;
     }
+    let sliding = access.sliding_overrides();
+    let given = (sliding.stiffness.is_some(), sliding.damping.is_some());
     let mut block = Block::new();
     let mut c0 = 0;
     while c0 < n {
@@ -792,7 +845,7 @@ pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess, X: GroupCopy<A::P, A::S
         block.valid = 0;
         let mut at = 0;
         while at < count {
-            step_lanes::<L>(&model, dt, needs_kn, at, &mut block);
+            step_lanes::<L>(&model, dt, needs_kn, given, at, &mut block);
             at += L::N;
         }
         deliver(

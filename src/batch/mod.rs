@@ -228,6 +228,11 @@ pub trait StepAccess: Gather {
     fn normal_force(&self, c: usize) -> f64;
     /// Normal stiffness `k_n` (read only when the model needs it).
     fn normal_stiffness(&self, c: usize) -> f64;
+    /// Per-contact sliding coefficients given instead of the model's (none by default).
+    #[inline(always)]
+    fn sliding_overrides(&self) -> SlidingOverrides<'_> {
+        SlidingOverrides::NONE
+    }
     /// The state of contact `c`.
     fn state(&mut self, c: usize) -> &mut Self::State;
     /// The state of contact `c`, read only.
@@ -282,6 +287,36 @@ fn pair_bodies<P: SphereSlot>(
     let a = particles.get(pair[0] as usize)?;
     let b = particles.get(pair[1] as usize)?;
     Some((a.sphere(), b.sphere()))
+}
+
+/// Per-contact sliding coefficients of a step call, used instead of the model's (as
+/// `rsl_contact_step` uses `RSL_INPUT_SLIDING_STIFFNESS` and `RSL_INPUT_SLIDING_DAMPING`), e.g.
+/// the contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin laws.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SlidingOverrides<'a> {
+    /// `k_t` per contact (force/length, finite, >= 0), or `None` for the model's.
+    pub stiffness: Option<&'a [f64]>,
+    /// `gamma_t` per contact (force/velocity, finite, >= 0), or `None` for the model's.
+    pub damping: Option<&'a [f64]>,
+}
+
+impl SlidingOverrides<'_> {
+    /// No override: the model's coefficients for every contact.
+    pub const NONE: SlidingOverrides<'static> = SlidingOverrides {
+        stiffness: None,
+        damping: None,
+    };
+
+    /// The overrides of contact `c`.
+    #[inline(always)]
+    pub fn at(&self, c: usize) -> (Option<f64>, Option<f64>) {
+        (self.stiffness.map(|k| k[c]), self.damping.map(|g| g[c]))
+    }
+
+    /// Whether each array (when given) has `n` values.
+    fn fits(&self, n: usize) -> bool {
+        self.stiffness.is_none_or(|k| k.len() == n) && self.damping.is_none_or(|g| g.len() == n)
+    }
 }
 
 /// Particle-major step: particles + index pairs; loads accumulated per particle
@@ -457,6 +492,8 @@ pub struct ContactSteps<'a, P, S, O> {
     pub states: &'a mut [S],
     /// Loads per contact.
     pub out: &'a mut [O],
+    /// Per-contact sliding coefficients ([`SlidingOverrides::NONE`]: the model's).
+    pub sliding: SlidingOverrides<'a>,
 }
 
 impl<'a, P, S, O> ContactSteps<'a, P, S, O> {
@@ -467,7 +504,8 @@ impl<'a, P, S, O> ContactSteps<'a, P, S, O> {
             && self.normal_force.len() == n
             && self.normal_stiffness.is_none_or(|k| k.len() == n)
             && self.states.len() == n
-            && self.out.len() == n;
+            && self.out.len() == n
+            && self.sliding.fits(n);
         if ok {
             Ok(())
         } else {
@@ -521,6 +559,10 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     #[inline(always)]
     fn normal_stiffness(&self, c: usize) -> f64 {
         self.normal_stiffness.map_or(0.0, |k| k[c])
+    }
+    #[inline(always)]
+    fn sliding_overrides(&self) -> SlidingOverrides<'_> {
+        self.sliding
     }
     #[inline(always)]
     fn state(&mut self, c: usize) -> &mut S {
@@ -840,6 +882,7 @@ fn step_error(
     bodies: Option<(Sphere<f64>, Sphere<f64>)>,
     f_n: f64,
     k_n: f64,
+    sliding: (Option<f64>, Option<f64>),
     state: &ContactState<f64>,
 ) -> Error {
     let Some((b1, b2)) = bodies else {
@@ -847,6 +890,7 @@ fn step_error(
     };
     let mut input = StepInput::new(f_n, dt);
     input.normal_stiffness = k_n;
+    (input.sliding_stiffness, input.sliding_damping) = sliding;
     let mut s = *state;
     match contact_step_pair(model, &b1, &b2, &input, &mut s) {
         Err(e) => e,

@@ -32,7 +32,7 @@ use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactSteps, DecomposeAccess, DecompositionSlot,
     GroupCopy, LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, Scene,
-    SphereSlot, StateSlot, StepAccess,
+    SlidingOverrides, SphereSlot, StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
 use crate::error::Error;
@@ -1122,6 +1122,20 @@ pub unsafe extern "C" fn rsl_batch_step_history(
     })
 }
 
+/// Per-contact coefficients of `rsl_batch_step_contacts_params`, used instead of the model's
+/// (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS` and
+/// `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
+/// contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin. Each pointer is NULL (the
+/// model's value for every contact) or an array of one value per contact.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct rsl_batch_contact_params {
+    /// Sliding stiffness `k_t` per contact (force/length, finite, >= 0), or NULL.
+    pub sliding_stiffness: *const f64,
+    /// Sliding damping `gamma_t` per contact (force/velocity, finite, >= 0), or NULL.
+    pub sliding_damping: *const f64,
+}
+
 /// Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
 /// `normal_force[c]`, `states[c]`, and its loads are **written** to `out[c]`. No two contacts
 /// share an output, so ranges of contacts can run on different threads. Otherwise as
@@ -1144,24 +1158,83 @@ pub unsafe extern "C" fn rsl_batch_step_contacts(
     out: *mut rsl_batch_loads,
     report: *mut rsl_batch_report,
 ) -> i32 {
+    // SAFETY: forwarded contract; no per-contact coefficients.
+    unsafe {
+        rsl_batch_step_contacts_params(
+            model,
+            body1,
+            body2,
+            n,
+            normal_force,
+            normal_stiffness,
+            std::ptr::null(),
+            dt,
+            options,
+            states,
+            out,
+            report,
+        )
+    }
+}
+
+/// As `rsl_batch_step_contacts`, with per-contact coefficients (`params`, NULL for none): a
+/// contact whose `k_t` or `gamma_t` is negative or not finite is skipped as invalid (status
+/// `RSL_ERR_INVALID_ARGUMENT` or `RSL_ERR_NON_FINITE`, as `rsl_contact_step` gives). In double
+/// precision the results equal `rsl_contact_step`'s with `RSL_INPUT_SLIDING_STIFFNESS` and
+/// `RSL_INPUT_SLIDING_DAMPING` bit for bit.
+///
+/// # Safety
+/// As `rsl_batch_step_contacts`; `params` NULL or readable, its non-NULL arrays holding `n`
+/// values.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_step_contacts_params(
+    model: *const rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    n: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    params: *const rsl_batch_contact_params,
+    dt: f64,
+    options: *const rsl_batch_options,
+    states: *mut rsl_contact_state,
+    out: *mut rsl_batch_loads,
+    report: *mut rsl_batch_report,
+) -> i32 {
     guard(|| {
         // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
         let report = unsafe { report_out(report)? };
         let result = (|| -> Result<_, FfiError> {
             // SAFETY: as above.
-            let (m, body1, body2, f_n, opts, states, out) = unsafe {
+            let (m, body1, body2, f_n, opts, params, states, out) = unsafe {
                 (
                     live_model(model)?,
                     slice_in(body1, n, "body1")?,
                     slice_in(body2, n, "body2")?,
                     slice_in(normal_force, n, "normal_force")?,
                     optional_input(options, "options")?,
+                    optional_input(params, "params")?,
                     slice_out(states, n, "states")?,
                     slice_out(out, n, "out")?,
                 )
             };
             // SAFETY: as above.
             let k_n = unsafe { stiffness_in(m, normal_stiffness, n)? };
+            let optional = |p: *const f64, name| {
+                if p.is_null() {
+                    Ok(None)
+                } else {
+                    // SAFETY: as above: a non-NULL array holds `n` values.
+                    unsafe { slice_in(p, n, name) }.map(Some)
+                }
+            };
+            let sliding = match params {
+                None => SlidingOverrides::NONE,
+                Some(p) => SlidingOverrides {
+                    stiffness: optional(p.sliding_stiffness, "params.sliding_stiffness")?,
+                    damping: optional(p.sliding_damping, "params.sliding_damping")?,
+                },
+            };
             let config = BatchConfig::from_options(opts)?;
             let access = ContactSteps {
                 body1,
@@ -1170,6 +1243,7 @@ pub unsafe extern "C" fn rsl_batch_step_contacts(
                 normal_stiffness: k_n,
                 states,
                 out,
+                sliding,
             };
             access.check()?;
             Ok((m, access, config))
