@@ -785,7 +785,7 @@ int32_t rsl_history_to_state(const struct rsl_model *model,
 // `history + c * size` (see `rsl_model_history_size` for its layout; `rsl_history_from_state`
 // packs a `rsl_contact_state`). The records keep only what the step reads, so there is less
 // memory to move: for the LAMMPS_2021 preset 56 bytes per contact instead of the 112 of a
-// `rsl_contact_state` (up to a tenth less time per contact on the benchmark's host:
+// `rsl_contact_state` (up to 7% less time per contact on the benchmark's host:
 // docs/performance.md).
 // Slip flags are not kept. Everything else (physics, validation, skipping, report, the order
 // of the additions) is that of `rsl_batch_step`, whose loads and new histories this call

@@ -8,9 +8,9 @@
 #   examples/lammps/bench.sh <lmp_rollslide> [cells per side, 24] [steps, 1000] [repeats, 3]
 #
 # Scene: examples/lammps/inputs/in.packing, law A (hooke, velocity damping, linear_history,
-# rolling sds, twisting sds: the style's batch path, rsl_batch_step_contacts) and law B
-# (hertz/material, viscoelastic damping, mindlin, twisting marshall: the per-contact path,
-# rsl_contact_step, because the sliding dashpot and stiffness change per contact). Prints a
+# rolling sds, twisting sds) and law B (hertz/material, viscoelastic damping, mindlin, twisting
+# marshall: the sliding dashpot and stiffness change per contact, passed to the batch call as
+# per-contact arrays); both run rsl_batch_step_contacts_params per chunk. Prints a
 # Markdown table (medians of the repeats) and the CPU.
 set -euo pipefail
 exe=$(realpath "$1")

@@ -359,6 +359,8 @@ void PairGranularRollslide::init_style()
   body1.resize(CHUNK);
   body2.resize(CHUNK);
   normal_force.resize(CHUNK);
+  sliding_stiffness.resize(CHUNK);
+  sliding_damping.resize(CHUNK);
   chunk_state.resize(CHUNK);
   chunk_loads.resize(CHUNK);
 }
@@ -395,7 +397,8 @@ void PairGranularRollslide::apply(int i, int j, const double del[3], const rsl_v
   if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, force1.x, force1.y, force1.z, del[0], del[1], del[2]);
 }
 
-// Steps the pending contacts in one rsl_batch_step_contacts call, then applies their loads in
+// Steps the pending contacts in one rsl_batch_step_contacts_params call (with the chunk's
+// per-contact k_t and gamma_t when its law has them), then applies their loads in
 // neighbour-list order.
 void PairGranularRollslide::flush(int, int)
 {
@@ -403,12 +406,16 @@ void PairGranularRollslide::flush(int, int)
   if (n == 0) return;
   for (int k = 0; k < n; k++) chunk_state[k] = history->state[pending[k].e];
   rsl_batch_report report;
-  int32_t st = rsl_batch_step_contacts(chunk_model, body1.data(), body2.data(), n,
-                                       normal_force.data(), nullptr, dt, nullptr,
-                                       chunk_state.data(), chunk_loads.data(), &report);
+  rsl_batch_contact_params params;
+  params.sliding_stiffness = chunk_kt ? sliding_stiffness.data() : nullptr;
+  params.sliding_damping = chunk_gammat ? sliding_damping.data() : nullptr;
+  int32_t st = rsl_batch_step_contacts_params(chunk_model, body1.data(), body2.data(), n,
+                                              normal_force.data(), nullptr, &params, dt, nullptr,
+                                              chunk_state.data(), chunk_loads.data(), &report);
   if (st != RSL_OK) {
     size_t bad = report.first_failed < (uint64_t) n ? report.first_failed : 0;
-    library_error("rsl_batch_step_contacts", st, atom->tag[pending[bad].i], atom->tag[pending[bad].j]);
+    library_error("rsl_batch_step_contacts_params", st, atom->tag[pending[bad].i],
+                  atom->tag[pending[bad].j]);
   }
   for (int k = 0; k < n; k++) {
     const Pending &p = pending[k];
@@ -505,34 +512,41 @@ void PairGranularRollslide::compute(int eflag, int vflag)
       const rsl_model *m = model(itype, jtype);
       const rsl_sphere s1 = sphere(x[i], v[i], omega[i], radi);
       const rsl_sphere s2 = sphere(x[j], v[j], omega[j], radj);
-      const bool per_contact = setup || c.damping != VELOCITY || c.tangential != LINEAR_HISTORY;
-      if (!per_contact) {
-        // Gathered for one rsl_batch_step_contacts call per chunk (one model per chunk).
+      // The per-contact sliding coefficients of pair granular: the tangential dashpot scales
+      // with the normal one for every damping model but velocity, mindlin's k_t with a.
+      const bool per_gammat = c.damping != VELOCITY, per_kt = c.tangential == MINDLIN;
+      const double gammat = c.xgammat * damp_normal_prefactor, kt = c.kt * a;
+      if (!setup) {
+        // Gathered for one batch call per chunk (one model, hence one law, per chunk).
         if (m != chunk_model || pending.size() == (size_t) CHUNK) {
           flush(eflag, vflag);
           chunk_model = m;
+          chunk_kt = per_kt;
+          chunk_gammat = per_gammat;
         }
         const int k = static_cast<int>(pending.size());
         pending.push_back({i, j, e, {delx, dely, delz}});
         body1[k] = s1;
         body2[k] = s2;
         normal_force[k] = Fntot;
+        sliding_stiffness[k] = kt;
+        sliding_damping[k] = gammat;
         continue;
       }
-      // Per contact: the setup pass, a per-contact sliding dashpot or stiffness.
+      // Per contact: the setup pass (LAMMPS' setup step stores no history increment).
       flush(eflag, vflag);
       rsl_contact_input in;
       memset(&in, 0, sizeof in);
       in.normal_force = Fntot;
       in.dt = dt;
       if (setup) in.flags |= RSL_INPUT_SETUP;
-      if (c.damping != VELOCITY) {
+      if (per_gammat) {
         in.flags |= RSL_INPUT_SLIDING_DAMPING;
-        in.sliding_damping = c.xgammat * damp_normal_prefactor;
+        in.sliding_damping = gammat;
       }
-      if (c.tangential == MINDLIN) {
+      if (per_kt) {
         in.flags |= RSL_INPUT_SLIDING_STIFFNESS;
-        in.sliding_stiffness = c.kt * a;
+        in.sliding_stiffness = kt;
       }
       rsl_contact_loads out;
       int32_t st = rsl_contact_step(m, &s1, &s2, &in, &states[e], &out);
@@ -546,6 +560,6 @@ void PairGranularRollslide::compute(int eflag, int vflag)
 
 double PairGranularRollslide::memory_usage()
 {
-  return (double) CHUNK * (2 * sizeof(rsl_sphere) + sizeof(double) + sizeof(rsl_contact_state) +
+  return (double) CHUNK * (2 * sizeof(rsl_sphere) + 3 * sizeof(double) + sizeof(rsl_contact_state) +
                            sizeof(rsl_batch_loads) + sizeof(Pending));
 }

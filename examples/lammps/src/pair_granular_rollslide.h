@@ -79,6 +79,9 @@ class PairGranularRollslide : public Pair {
   std::vector<Pending> pending;
   std::vector<rsl_sphere> body1, body2;
   std::vector<double> normal_force;
+  // Per-contact k_t (mindlin) and gamma_t (every damping model but velocity) of the chunk.
+  std::vector<double> sliding_stiffness, sliding_damping;
+  bool chunk_kt = false, chunk_gammat = false;
   std::vector<rsl_contact_state> chunk_state;
   std::vector<rsl_batch_loads> chunk_loads;
   const rsl_model *chunk_model = nullptr;
