@@ -1,7 +1,7 @@
 /* The library against YADE 2023.02a (c_tests/reference/: yade_double.csv from the YADE script,
  * yade_mp150.csv from its 150-digit replay), through the C ABI:
  *  - the decomposition against YADE's geometry, relative angular velocity and incident
- *    velocity (sign map of shared/spec/peers.md);
+ *    velocity (YADE's normal is ours, its relative angular velocity is w2 - w1);
  *  - the YADE_2023 preset's forces and torques against YADE step by step, for both laws;
  *  - the same against the 150-digit truth, to measure the library's own rounding;
  *  - the default objective mode against YADE where the two must agree (fixed normals), and a

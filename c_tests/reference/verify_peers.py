@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Check the claims of shared/spec/peers.md (YADE section) against yade_double.csv.
+"""Check what the library assumes of YADE 2023.02a (its normal, relative angular velocity,
+incident velocity and moment conventions, listed with each check below) against yade_double.csv.
 
     python3 c_tests/reference/verify_peers.py [yade_double.csv]
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Independent re-implementation of the LAMMPS 2021 pair granular tangential,
-rolling (sds) and twisting (sds / marshall) laws as described in
-shared/spec/peers.md, with the normal models hooke, hertz/material, jkr and dmt,
+rolling (sds) and twisting (sds / marshall) laws as LAMMPS 20220106's
+pair_granular.cpp computes them (docs/laws.md, LAMMPS_2021 preset), with the normal models hooke, hertz/material, jkr and dmt,
 replayed on the positions/velocities of lammps_reference.csv; prints the worst
 relative mismatch per case. For jkr and dmt it also compares its own normal force
 and friction-limit force with the CSV's `fn_signed` and `fn` (written by
