@@ -11,6 +11,9 @@
 //! native-static-libs`) against `cmake/native-static-libs.txt`, which the CMake package and the
 //! pkg-config files carry, and against the other places that spell them out.
 
+mod common;
+
+use common::linking::run;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -34,25 +37,6 @@ fn require(tool: &str) {
         "`{tool}` is not installed: the CMake package test needs cmake and pkg-config \
          (`{INSTALL_HINT}`)"
     );
-}
-
-/// Runs a command; panics with its whole output when it fails. Returns stdout + stderr.
-fn run(cmd: &mut Command) -> String {
-    let shown = format!("{cmd:?}");
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {shown}: {e}"));
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(
-        out.status.success(),
-        "{shown} failed ({}):\n{text}",
-        out.status
-    );
-    text
 }
 
 /// A command for a program we built: without cargo's LD_LIBRARY_PATH (target/*/deps), so the

@@ -22,6 +22,9 @@
 //! sorting, no atom crossing a periodic boundary), and our own runs are compared with each
 //! other for the rank count, newton, sorting and restart checks.
 
+mod common;
+
+use common::linking::run;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -37,25 +40,6 @@ fn work() -> PathBuf {
 
 fn inputs() -> PathBuf {
     root().join("examples/lammps/inputs")
-}
-
-/// Runs a command; panics with its whole output when it fails. Returns stdout + stderr.
-fn run(cmd: &mut Command) -> String {
-    let shown = format!("{cmd:?}");
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {shown}: {e}"));
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(
-        out.status.success(),
-        "{shown} failed ({}):\n{text}",
-        out.status
-    );
-    text
 }
 
 fn works(program: &str, arg: &str) -> bool {

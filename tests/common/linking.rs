@@ -51,3 +51,22 @@ pub fn compiler(cpp: bool) -> cc::Tool {
         .warnings(false)
         .get_compiler()
 }
+
+/// Runs a command; panics with its whole output when it fails. Returns stdout + stderr.
+pub fn run(cmd: &mut std::process::Command) -> String {
+    let shown = format!("{cmd:?}");
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {shown}: {e}"));
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.status.success(),
+        "{shown} failed ({}):\n{text}",
+        out.status
+    );
+    text
+}
