@@ -168,6 +168,26 @@ pub(crate) fn prefetch<T>(p: &T) {
     }
 }
 
+/// Prefetches into L2 the line holding byte `offset` of `slots[i]`, without a bounds check: the
+/// address is computed with wrapping arithmetic and never dereferenced, so an index past the
+/// end prefetches a line the program may not own, which is harmless. Saves the compare and
+/// branch per touched slot that [`prefetch`] through a checked `get` costs (15 slots per
+/// contact in the particle-major call).
+#[inline(always)]
+fn prefetch_at<T>(slots: &[T], i: usize, offset: usize) {
+    let _address = slots
+        .as_ptr()
+        .wrapping_add(i)
+        .cast::<i8>()
+        .wrapping_add(offset);
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: PREFETCHT1 is a hint: it never faults, whatever the address, and changes no
+    // architectural state; nothing is read or written through `_address`.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T1 }>(_address)
+    }
+}
+
 impl SphereSlot for rsl_sphere {
     #[inline(always)]
     fn sphere(&self) -> Sphere<f64> {
@@ -178,6 +198,11 @@ impl SphereSlot for rsl_sphere {
         // An rsl_sphere is 80 bytes: it may straddle two cache lines.
         prefetch(&self.position.x);
         prefetch(&self.radius);
+    }
+    #[inline(always)]
+    fn touch_in(slots: &[Self], i: usize) {
+        prefetch_at(slots, i, 0);
+        prefetch_at(slots, i, std::mem::offset_of!(rsl_sphere, radius));
     }
 }
 
@@ -202,6 +227,20 @@ impl StateSlot for rsl_contact_state {
         prefetch(&self.twisting_offaxis.x);
         prefetch(&self.slip_flags);
     }
+    #[inline(always)]
+    fn touch_in(slots: &[Self], i: usize) {
+        prefetch_at(slots, i, 0);
+        prefetch_at(
+            slots,
+            i,
+            std::mem::offset_of!(rsl_contact_state, twisting_offaxis),
+        );
+        prefetch_at(
+            slots,
+            i,
+            std::mem::offset_of!(rsl_contact_state, slip_flags),
+        );
+    }
 }
 
 impl AddSlot for rsl_vec3 {
@@ -224,6 +263,11 @@ impl AddSlot for rsl_vec3 {
         // 24 bytes: may straddle two cache lines.
         prefetch(&self.x);
         prefetch(&self.z);
+    }
+    #[inline(always)]
+    fn touch_in(slots: &[Self], i: usize) {
+        prefetch_at(slots, i, 0);
+        prefetch_at(slots, i, std::mem::offset_of!(rsl_vec3, z));
     }
 }
 
