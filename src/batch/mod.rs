@@ -75,9 +75,15 @@ pub trait SphereSlot {
     where
         Self: Sized,
     {
-        if let Some(s) = slots.get(i) {
-            s.touch();
-        }
+        touch_present(slots, i, Self::touch);
+    }
+}
+
+/// `touch(&slots[i])` when `i` is in range: the default of the slot traits' `touch_in`.
+#[inline(always)]
+fn touch_present<T>(slots: &[T], i: usize, touch: impl Fn(&T)) {
+    if let Some(s) = slots.get(i) {
+        touch(s);
     }
 }
 
@@ -97,9 +103,7 @@ pub trait StateSlot {
     where
         Self: Sized,
     {
-        if let Some(s) = slots.get(i) {
-            s.touch();
-        }
+        touch_present(slots, i, Self::touch);
     }
 }
 
@@ -119,9 +123,7 @@ pub trait AddSlot {
     where
         Self: Sized,
     {
-        if let Some(s) = slots.get(i) {
-            s.touch();
-        }
+        touch_present(slots, i, Self::touch);
     }
 }
 
