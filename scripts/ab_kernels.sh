@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Before/after comparison of two builds of the library on the benchmark driver (bench/bench.c):
+# links the driver to each static library, runs them alternately ROUNDS times, and prints the
+# median ns per contact of every row for both and their ratio (after / before). Alternating
+# runs close in time are what shows a change of a few percent on a host where single runs of
+# a row scatter by more.
+#
+#   scripts/ab_kernels.sh BEFORE.a AFTER.a [CONTACTS, 1200000] [ROUNDS, 5] [ROW SUBSTRING] [driver options...]
+#
+# Build the two libraries with separate target directories, e.g.
+#   git stash; cargo build --release --lib; cp target/release/librollslide.a /tmp/before.a; git stash pop
+#   cargo build --release --lib; scripts/ab_kernels.sh /tmp/before.a target/release/librollslide.a 2000 5 batch_f
+# Driver options pass through (--workload=B, --slip=0). The placement of the driver's arrays
+# modulo 4 KB can change a kernel's time at 1.2M contacts; MALLOC_MMAP_THRESHOLD_=4000000000 in
+# the environment gives another placement to check against.
+set -euo pipefail
+before=$1
+after=$2
+contacts=${3:-1200000}
+rounds=${4:-5}
+only=${5:-}
+shift $(( $# < 5 ? $# : 5 ))
+cd "$(dirname "$0")/.."
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+for side in before after; do
+  lib=${!side}
+  ${CC:-cc} -O3 -march=native -no-pie -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude bench/bench.c \
+    "$lib" -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$tmp/$side"
+done
+for _ in $(seq "$rounds"); do
+  for side in before after; do
+    "$tmp/$side" "$contacts" 3 --workload=A --only="$only" "$@" 2>&1 |
+      awk -v s="$side" '/^row/ && $2 != "floor" && $3 !~ /^floor/ {print s, $2 ":" $3, $4}'
+  done
+done >"$tmp/runs"
+python3 - "$tmp/runs" <<'PY'
+import collections, statistics, sys
+v = collections.defaultdict(list)
+for line in open(sys.argv[1]):
+    side, row, ns = line.split()
+    v[(row, side)].append(float(ns))
+for row in sorted({r for r, _ in v}):
+    b, a = v.get((row, "before")), v.get((row, "after"))
+    if b and a:
+        mb, ma = statistics.median(b), statistics.median(a)
+        print(f"{row:48s} before {mb:7.2f}  after {ma:7.2f}  ratio {ma / mb:.3f}  (n={len(b)})")
+PY
