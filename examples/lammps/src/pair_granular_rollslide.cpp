@@ -52,14 +52,21 @@ double mix_g(double e1, double e2, double nu1, double nu2)
   return 1 / ((2 * (2 - nu1) * (1 + nu1) / e1) + (2 * (2 - nu2) * (1 + nu2) / e2));
 }
 
-rsl_sphere sphere(const double *x, const double *v, const double *w, double r)
+// Writes an atom's sphere record in place, field by field. (Building it in a local and copying
+// it made GCC store it in doubles and reload it in 16-byte pieces, a store-forwarding stall per
+// record.)
+void fill_sphere(rsl_sphere &s, const double *x, const double *v, const double *w, double r)
 {
-  rsl_sphere s;
-  s.position = {x[0], x[1], x[2]};
-  s.velocity = {v[0], v[1], v[2]};
-  s.angular_velocity = {w[0], w[1], w[2]};
+  s.position.x = x[0];
+  s.position.y = x[1];
+  s.position.z = x[2];
+  s.velocity.x = v[0];
+  s.velocity.y = v[1];
+  s.velocity.z = v[2];
+  s.angular_velocity.x = w[0];
+  s.angular_velocity.y = w[1];
+  s.angular_velocity.z = w[2];
   s.radius = r;
-  return s;
 }
 
 }    // namespace
@@ -355,7 +362,7 @@ void PairGranularRollslide::init_style()
       models[i * (ntypes + 1) + j] = m;
     }
 
-  pending.reserve(CHUNK);
+  pending.resize(CHUNK);
   body1.resize(CHUNK);
   body2.resize(CHUNK);
   normal_force.resize(CHUNK);
@@ -402,7 +409,7 @@ void PairGranularRollslide::apply(int i, int j, const double del[3], const rsl_v
 // neighbour-list order.
 void PairGranularRollslide::flush(int, int)
 {
-  const int n = static_cast<int>(pending.size());
+  const int n = npending;
   if (n == 0) return;
   for (int k = 0; k < n; k++) chunk_state[k] = history->state[pending[k].e];
   rsl_batch_report report;
@@ -422,7 +429,7 @@ void PairGranularRollslide::flush(int, int)
     history->state[p.e] = chunk_state[k];
     apply(p.i, p.j, p.del, chunk_loads[k].force1, chunk_loads[k].torque1, chunk_loads[k].torque2);
   }
-  pending.clear();
+  npending = 0;
 }
 
 void PairGranularRollslide::compute(int eflag, int vflag)
@@ -447,7 +454,7 @@ void PairGranularRollslide::compute(int eflag, int vflag)
   int **firstneigh = list->firstneigh;
   unsigned char *touch = history->touch.data();
   rsl_contact_state *states = history->state.data();
-  pending.clear();
+  npending = 0;
   chunk_model = nullptr;
 
   for (int ii = 0; ii < inum; ii++) {
@@ -510,24 +517,28 @@ void PairGranularRollslide::compute(int eflag, int vflag)
 
       touch[e] = 1;
       const rsl_model *m = model(itype, jtype);
-      const rsl_sphere s1 = sphere(x[i], v[i], omega[i], radi);
-      const rsl_sphere s2 = sphere(x[j], v[j], omega[j], radj);
       // The per-contact sliding coefficients of pair granular: the tangential dashpot scales
       // with the normal one for every damping model but velocity, mindlin's k_t with a.
       const bool per_gammat = c.damping != VELOCITY, per_kt = c.tangential == MINDLIN;
       const double gammat = c.xgammat * damp_normal_prefactor, kt = c.kt * a;
       if (!setup) {
         // Gathered for one batch call per chunk (one model, hence one law, per chunk).
-        if (m != chunk_model || pending.size() == (size_t) CHUNK) {
+        if (m != chunk_model || npending == CHUNK) {
           flush(eflag, vflag);
           chunk_model = m;
           chunk_kt = per_kt;
           chunk_gammat = per_gammat;
         }
-        const int k = static_cast<int>(pending.size());
-        pending.push_back({i, j, e, {delx, dely, delz}});
-        body1[k] = s1;
-        body2[k] = s2;
+        const int k = npending++;
+        Pending &p = pending[k];
+        p.i = i;
+        p.j = j;
+        p.e = e;
+        p.del[0] = delx;
+        p.del[1] = dely;
+        p.del[2] = delz;
+        fill_sphere(body1[k], x[i], v[i], omega[i], radi);
+        fill_sphere(body2[k], x[j], v[j], omega[j], radj);
         normal_force[k] = Fntot;
         sliding_stiffness[k] = kt;
         sliding_damping[k] = gammat;
@@ -548,6 +559,9 @@ void PairGranularRollslide::compute(int eflag, int vflag)
         in.flags |= RSL_INPUT_SLIDING_STIFFNESS;
         in.sliding_stiffness = kt;
       }
+      rsl_sphere s1, s2;
+      fill_sphere(s1, x[i], v[i], omega[i], radi);
+      fill_sphere(s2, x[j], v[j], omega[j], radj);
       rsl_contact_loads out;
       int32_t st = rsl_contact_step(m, &s1, &s2, &in, &states[e], &out);
       if (st != RSL_OK) library_error("rsl_contact_step", st, tag[i], tag[j]);

@@ -76,7 +76,11 @@ class PairGranularRollslide : public Pair {
     bigint e;
     double del[3];
   };
+  // The chunk's contacts, pending[0..npending): a fixed array written field by field (a
+  // push_back of a brace-built Pending made GCC assemble it on the stack and copy it with wider
+  // loads than its stores, a store-forwarding stall that took a fifth of compute()'s samples).
   std::vector<Pending> pending;
+  int npending = 0;
   std::vector<rsl_sphere> body1, body2;
   std::vector<double> normal_force;
   // Per-contact k_t (mindlin) and gamma_t (every damping model but velocity) of the chunk.
