@@ -467,7 +467,7 @@ fn scalar_f32<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchRe
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::*;
-    use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4, F64x8};
+    use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4x2, F64x8};
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
@@ -477,11 +477,16 @@ mod x86 {
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
-        // Four lanes in one ymm register. Eight lanes in two (`F64x4x2`) measured the same
-        // (workload A, 1.2M contacts, full LAMMPS set: 55.3 against 55.2 ns per contact) with
-        // twice the register pressure.
+        // Eight lanes in two ymm registers, each operation two independent instructions.
+        // With four lanes in one (`F64x4`) the step took 9-19% more time on the Zen 5 host of
+        // docs/performance.md (A at 1.2M contacts in both array placements, and B; 5 or 3
+        // alternating runs of scripts/ab_kernels.sh: full LAMMPS set 37.9 against 33.5 ns per
+        // contact, sliding 32.0 against 25.8), although it has half the register pressure: per
+        // step of the block it pays the slip and validity bookkeeping and the clips' branches
+        // for half as many contacts. (On the Zen 4 host, with the earlier kernel, the two
+        // measured the same: 55.3 against 55.2 ns.)
         // SAFETY: the caller guarantees AVX2.
-        step_kernel::<F64x4, S, A, _>(m, dt, a, unsafe { A::State::avx2() })
+        step_kernel::<F64x4x2, S, A, _>(m, dt, a, unsafe { A::State::avx2() })
     }
 
     /// # Safety
@@ -532,7 +537,9 @@ mod x86 {
         if f32 {
             decompose_kernel::<F32x8N, A>(o, p, a)
         } else {
-            decompose_kernel::<F64x4, A>(o, p, a)
+            // Eight lanes in two ymm, as the step: in four (`F64x4`) the decomposition took
+            // 37 ns per contact against 22-25 (A, 2,000 and 1.2M contacts, 3 alternating runs).
+            decompose_kernel::<F64x4x2, A>(o, p, a)
         }
     }
 
