@@ -467,7 +467,7 @@ fn scalar_f32<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchRe
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::*;
-    use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4x2, F64x8};
+    use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4, F64x4x2, F64x8};
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
@@ -537,9 +537,12 @@ mod x86 {
         if f32 {
             decompose_kernel::<F32x8N, A>(o, p, a)
         } else {
-            // Eight lanes in two ymm, as the step: in four (`F64x4`) the decomposition took
-            // 37 ns per contact against 22-25 (A, 2,000 and 1.2M contacts, 3 alternating runs).
-            decompose_kernel::<F64x4x2, A>(o, p, a)
+            // Four lanes. Eight in two ymm (`F64x4x2`, as the step) took 22-25 ns per contact
+            // against 37 for the decomposition itself (A, 2,000 and 1.2M contacts, 3
+            // alternating runs), but the step kernels, which then shared its instantiations,
+            // compiled to different code that ran 4-7% slower in cache and lost most of their
+            // gain at 1.2M contacts for the full set: the step matters more.
+            decompose_kernel::<F64x4, A>(o, p, a)
         }
     }
 
