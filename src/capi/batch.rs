@@ -478,12 +478,13 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         // Eight lanes in two ymm registers, each operation two independent instructions.
-        // With four lanes in one (`F64x4`) the step took 9-19% more time on the Zen 5 host of
+        // With four lanes in one (`F64x4`) the step took 6-19% more time on the Zen 5 host of
         // docs/performance.md (A at 1.2M contacts in both array placements, and B; 5 or 3
         // alternating runs of scripts/ab_kernels.sh: full LAMMPS set 37.9 against 33.5 ns per
-        // contact, sliding 32.0 against 25.8), although it has half the register pressure: per
-        // step of the block it pays the slip and validity bookkeeping and the clips' branches
-        // for half as many contacts. (On the Zen 4 host, with the earlier kernel, the two
+        // contact, sliding 32.0 against 25.8), although it has half the register pressure:
+        // likely because per step of the block it pays the slip and validity bookkeeping for
+        // half as many contacts, and the clips' "any lane slips" branches are less predictable
+        // over 4 lanes. (On the Zen 4 host, with the earlier kernel, the two
         // measured the same: 55.3 against 55.2 ns.)
         // SAFETY: the caller guarantees AVX2.
         step_kernel::<F64x4x2, S, A, _>(m, dt, a, unsafe { A::State::avx2() })
