@@ -35,7 +35,8 @@
 // SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).
 #define RSL_SIMD_SCALAR 1
 
-// SIMD: AVX2 + FMA (8 double lanes in two ymm registers, or 8 single lanes);
+// SIMD: AVX2 + FMA (8 double lanes in two ymm registers for the steps, 4 in one for
+// `rsl_batch_decompose`, or 8 single lanes);
 // `RSL_ERR_INVALID_ARGUMENT` if absent.
 #define RSL_SIMD_AVX2 2
 

@@ -55,7 +55,8 @@ pub const RSL_PRECISION_F32: u32 = 1;
 pub const RSL_SIMD_AUTO: u32 = 0;
 /// SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).
 pub const RSL_SIMD_SCALAR: u32 = 1;
-/// SIMD: AVX2 + FMA (8 double lanes in two ymm registers, or 8 single lanes);
+/// SIMD: AVX2 + FMA (8 double lanes in two ymm registers for the steps, 4 in one for
+/// `rsl_batch_decompose`, or 8 single lanes);
 /// `RSL_ERR_INVALID_ARGUMENT` if absent.
 pub const RSL_SIMD_AVX2: u32 = 2;
 /// SIMD: AVX-512 F/VL/DQ/BW (8 double or 8 single lanes: 16 single lanes measured 1.6x
@@ -538,11 +539,12 @@ mod x86 {
         if f32 {
             decompose_kernel::<F32x8N, A>(o, p, a)
         } else {
-            // Four lanes. Eight in two ymm (`F64x4x2`, as the step) took 22-25 ns per contact
-            // against 37 for the decomposition itself (A, 2,000 and 1.2M contacts, 3
-            // alternating runs), but the step kernels, which then shared its instantiations,
-            // compiled to different code that ran 4-7% slower in cache and lost most of their
-            // gain at 1.2M contacts for the full set: the step matters more.
+            // Four lanes. Eight in two ymm did not pay here: on `F64x4x2` (shared with the
+            // step) the step kernels compiled to different code that ran 4-7% slower in cache
+            // and lost most of their full-set gain at 1.2M contacts; on a separate 8-lane type
+            // (the step's code unchanged) the decomposition itself ran 9-11% slower than on
+            // four lanes (A, 2,000 and 1.2M contacts, alternating runs: 21.1 against 23.0 and
+            // 22.6 against 25.1 ns per contact).
             decompose_kernel::<F64x4, A>(o, p, a)
         }
     }
