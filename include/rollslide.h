@@ -716,6 +716,10 @@ extern "C" {
 // computed and checked finite, as `rsl_contact_step` does (turn tracking off for the batch if
 // they are not wanted).
 //
+// Speed: a call whose arrays take at least 1 MiB in all prefetches each contact's state and
+// bodies 48 contacts ahead; a smaller call, whose data is most likely in cache already, does
+// not (the prefetches would only cost instructions). The results are the same either way.
+//
 // Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
 // centres, branch <= 0, non-finite result, energy terms included) are
 // skipped in the same pass: their state and loads are not written; every other contact is
@@ -811,7 +815,7 @@ int32_t rsl_batch_step_history(const struct rsl_model *model,
 // Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
 // `normal_force[c]`, `states[c]`, and its loads are **written** to `out[c]`. No two contacts
 // share an output, so ranges of contacts can run on different threads. Otherwise as
-// `rsl_batch_step` (same validation, skipping and report).
+// `rsl_batch_step` (same validation, skipping, report and prefetching rule).
 //
 // Preconditions (the behaviour is undefined if they do not hold):
 // Every array must hold `n` elements (NULL only when `n = 0`); `states`, `out` and `report`

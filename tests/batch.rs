@@ -5,7 +5,10 @@ mod common;
 
 use common::{full_model, scene_models, Rng};
 use rollslide::batch::history::{history_words, words_from_state};
-use rollslide::batch::{ContactSteps, ParticleDecompose, ParticleSteps, Scene, SlidingOverrides};
+use rollslide::batch::{
+    ContactSteps, Gather, ParticleDecompose, ParticleSteps, Scene, SlidingOverrides,
+    PREFETCH_MIN_BYTES,
+};
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use rollslide::capi::contact::rsl_contact_state;
@@ -403,6 +406,125 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
         for p in 0..np {
             assert_eq!(bits(&force[p]), bits(&f_ref[p]), "{config:?} force {p}");
             assert_eq!(bits(&torque[p]), bits(&t_ref[p]), "{config:?} torque {p}");
+        }
+    }
+}
+
+/// Calls of at least `PREFETCH_MIN_BYTES` run the kernels that prefetch, smaller ones the
+/// kernels that do not (two instantiations of the same code). The same contacts stepped in one
+/// large call and in calls of 1,000 give the same bits, in both precisions, at every level, for
+/// every scene, particle-major (the accumulated sums) and contact-major (the loads), and the
+/// same states.
+#[test]
+fn calls_with_and_without_prefetching_give_the_same_bits() {
+    let dt = 1e-4;
+    let chunk = 1000;
+    let bits3 = |v: &rsl_vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+    let state_bits = |s: &rsl_contact_state| {
+        let c = ContactState::from(s);
+        let w = [
+            c.sliding_spring,
+            c.rolling_spring,
+            c.twisting_offaxis,
+            c.previous_normal,
+        ];
+        let mut b: Vec<u64> = w
+            .iter()
+            .flat_map(|v| [v.x, v.y, v.z])
+            .map(f64::to_bits)
+            .collect();
+        b.push(c.twisting_angle.to_bits());
+        b.push(u64::from(s.slip_flags));
+        b
+    };
+    // 9,000 contacts among 400 particles: 1.2 MB particle-major, 3.2 MB contact-major; a call
+    // of 1,000 contacts stays well below.
+    let mut sc = scenario(400, 9000, 31);
+    let mut order: Vec<usize> = (0..sc.pairs.len()).collect();
+    order.sort_by_key(|&c| sc.pairs[c][0]);
+    sc.pairs = order.iter().map(|&c| sc.pairs[c]).collect();
+    sc.normal_force = order.iter().map(|&c| sc.normal_force[c]).collect();
+    sc.states = order.iter().map(|&c| sc.states[c]).collect();
+    let nc = sc.pairs.len();
+    let np = sc.particles.len();
+    let body1: Vec<rsl_sphere> = sc
+        .pairs
+        .iter()
+        .map(|p| sc.particles[p[0] as usize])
+        .collect();
+    let body2: Vec<rsl_sphere> = sc
+        .pairs
+        .iter()
+        .map(|p| sc.particles[p[1] as usize])
+        .collect();
+    for (model, _) in models() {
+        for config in configs() {
+            // Particle-major: one call, then calls of `chunk` contacts on the same particles.
+            let mut results = Vec::new();
+            for size in [nc, chunk] {
+                let mut states = sc.states.clone();
+                let mut force = vec![rsl_vec3::default(); np];
+                let mut torque = vec![rsl_vec3::default(); np];
+                let mut c0 = 0;
+                while c0 < nc {
+                    let c1 = (c0 + size).min(nc);
+                    let mut access = ParticleSteps {
+                        particles: &sc.particles,
+                        pairs: &sc.pairs[c0..c1],
+                        normal_force: &sc.normal_force[c0..c1],
+                        normal_stiffness: None,
+                        states: &mut states[c0..c1],
+                        force: &mut force,
+                        torque: &mut torque,
+                    };
+                    assert_eq!(access.prefetching(), size == nc, "{size} contacts");
+                    assert_eq!(
+                        access.footprint() >= PREFETCH_MIN_BYTES,
+                        access.prefetching()
+                    );
+                    run_step(&model, dt, &mut access, config).unwrap();
+                    c0 = c1;
+                }
+                let sums: Vec<[u64; 3]> = force.iter().chain(&torque).map(bits3).collect();
+                let states: Vec<Vec<u64>> = states.iter().map(state_bits).collect();
+                results.push((sums, states));
+            }
+            assert!(
+                results[0] == results[1],
+                "particle-major, {config:?}, {model:?}: one call and calls of {chunk} differ"
+            );
+            // Contact-major.
+            let mut results = Vec::new();
+            for size in [nc, chunk] {
+                let mut states = sc.states.clone();
+                let mut out = vec![rsl_batch_loads::default(); nc];
+                let mut c0 = 0;
+                while c0 < nc {
+                    let c1 = (c0 + size).min(nc);
+                    let mut access = ContactSteps {
+                        body1: &body1[c0..c1],
+                        body2: &body2[c0..c1],
+                        normal_force: &sc.normal_force[c0..c1],
+                        normal_stiffness: None,
+                        states: &mut states[c0..c1],
+                        out: &mut out[c0..c1],
+                        sliding: SlidingOverrides::NONE,
+                    };
+                    assert_eq!(access.prefetching(), size == nc, "{size} contacts");
+                    run_step(&model, dt, &mut access, config).unwrap();
+                    c0 = c1;
+                }
+                let loads: Vec<[u64; 3]> = out
+                    .iter()
+                    .flat_map(|l| [bits3(&l.force1), bits3(&l.torque1), bits3(&l.torque2)])
+                    .collect();
+                let states: Vec<Vec<u64>> = states.iter().map(state_bits).collect();
+                results.push((loads, states));
+            }
+            assert!(
+                results[0] == results[1],
+                "contact-major, {config:?}, {model:?}: one call and calls of {chunk} differ"
+            );
         }
     }
 }

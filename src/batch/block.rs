@@ -270,9 +270,10 @@ fn group<const Q: usize>(rows: &[Row; Q], g: usize) -> [&GroupRow; Q] {
 
 /// Copies contacts `c0..c0 + count` into the block's rows (slots `0..count`), a group of
 /// [`GROUP`] at a time, and pads the slots of the last group with the last contact (their
-/// results are dropped).
+/// results are dropped). Touches the contacts `TOUCH_AHEAD` further on when `PREFETCH`
+/// ([`Gather::prefetching`](super::Gather::prefetching)).
 #[inline(always)]
-fn gather<A: StepAccess, X: GroupCopy<A::P, A::State>>(
+fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     access: &A,
     copy: X,
     c0: usize,
@@ -290,7 +291,9 @@ fn gather<A: StepAccess, X: GroupCopy<A::P, A::State>>(
         // 29.5-30.2 against 27.7-28.9 ns, AVX2 37.3-40.0 against 35.9-36.3).
         for k in 0..GROUP {
             let (i, c) = (g + k, contact(k));
-            access.touch(c + TOUCH_AHEAD);
+            if PREFETCH {
+                access.touch(c + TOUCH_AHEAD);
+            }
             b.index_ok |= (access.body_refs(c).2 as u64) << i;
             b.normal_force[i] = access.normal_force(c);
             if needs_kn {
@@ -698,7 +701,7 @@ fn step_lanes<L: Lanes>(
 /// Steps contact `c` on its own (one-lane types: staging through rows would only add copies),
 /// reading the host's structs and delivering as [`deliver`] does.
 #[inline(always)]
-fn step_one<L: Lanes, A: StepAccess>(
+fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
     access: &mut A,
     model: &Model,
     dt: f64,
@@ -706,7 +709,9 @@ fn step_one<L: Lanes, A: StepAccess>(
     c: usize,
     report: &mut BatchReport,
 ) {
-    access.touch(c + TOUCH_AHEAD);
+    if PREFETCH {
+        access.touch(c + TOUCH_AHEAD);
+    }
     let (one, two, index_ok) = access.body_refs(c);
     let (one, two): (Sphere<f64>, Sphere<f64>) = (one.sphere(), two.sphere());
     let single = Single {
@@ -825,8 +830,21 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
 /// [`Scene`] code (its constants must match `model`: use [`Scene::classify`], or 0). `copy`
 /// moves the groups of contacts between the host's structs and the block (the one-lane
 /// kernels do not use it: they read the structs directly).
+///
+/// `PREFETCH`: whether to touch the contacts ahead; pass
+/// [`Gather::prefetching`](super::Gather::prefetching) of `access`. It is a constant, so that a caller compiles the two
+/// kernels as separate functions, the prefetching one the same code as before the choice
+/// existed: a run-time test in the loops, or two copies in one function, changed how other
+/// kernels compiled (in cache a few took 1.2-1.7x the time; at 1.2M contacts some took 8-26%
+/// more).
 #[inline(always)]
-pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess, X: GroupCopy<A::P, A::State>>(
+pub fn step_kernel<
+    L: Lanes,
+    const S: u8,
+    const PREFETCH: bool,
+    A: StepAccess,
+    X: GroupCopy<A::P, A::State>,
+>(
     model: &Model,
     dt: f64,
     access: &mut A,
@@ -841,7 +859,7 @@ pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess, X: GroupCopy<A::P, A::S
     }
     if L::N == 1 {
         for c in 0..n {
-            step_one::<L, A>(access, &model, dt, needs_kn, c, &mut report);
+            step_one::<PREFETCH, L, A>(access, &model, dt, needs_kn, c, &mut report);
         }
         return report;
     }
@@ -851,7 +869,7 @@ pub fn step_kernel<L: Lanes, const S: u8, A: StepAccess, X: GroupCopy<A::P, A::S
     let mut c0 = 0;
     while c0 < n {
         let count = (n - c0).min(BLOCK);
-        gather(&*access, copy, c0, count, needs_kn, &mut block);
+        gather::<PREFETCH, A, X>(&*access, copy, c0, count, needs_kn, &mut block);
         block.valid = 0;
         let mut at = 0;
         while at < count {

@@ -243,6 +243,14 @@ pub trait Gather {
     /// prefetch instruction; a load whose value goes to `black_box` does the same job.
     #[inline(always)]
     fn touch(&self, _c: usize) {}
+    /// Bytes of every host array the call reads or writes.
+    fn footprint(&self) -> usize;
+    /// Whether the kernels call [`Gather::touch`]: only for calls of at least
+    /// [`PREFETCH_MIN_BYTES`].
+    #[inline(always)]
+    fn prefetching(&self) -> bool {
+        self.footprint() >= PREFETCH_MIN_BYTES
+    }
 }
 
 /// What the step kernels read and write, per contact index `c < len()`.
@@ -413,6 +421,15 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot> Gather for ParticleSteps<'_, P, S,
             }
         }
     }
+    fn footprint(&self) -> usize {
+        size_of_val(self.particles)
+            + size_of_val(self.pairs)
+            + size_of_val(self.normal_force)
+            + self.normal_stiffness.map_or(0, size_of_val)
+            + size_of_val(&*self.states)
+            + size_of_val(&*self.force)
+            + size_of_val(&*self.torque)
+    }
 }
 
 impl<P: SphereSlot, S: StateSlot, V: AddSlot> StepAccess for ParticleSteps<'_, P, S, V> {
@@ -561,6 +578,16 @@ impl<P: SphereSlot, S: StateSlot, O> Gather for ContactSteps<'_, P, S, O> {
         P::touch_in(self.body1, c);
         P::touch_in(self.body2, c);
     }
+    fn footprint(&self) -> usize {
+        size_of_val(self.body1)
+            + size_of_val(self.body2)
+            + size_of_val(self.normal_force)
+            + self.normal_stiffness.map_or(0, size_of_val)
+            + size_of_val(&*self.states)
+            + size_of_val(&*self.out)
+            + self.sliding.stiffness.map_or(0, size_of_val)
+            + self.sliding.damping.map_or(0, size_of_val)
+    }
 }
 
 impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, P, S, O> {
@@ -633,6 +660,9 @@ impl<P: SphereSlot, D> Gather for ParticleDecompose<'_, P, D> {
             }
         }
     }
+    fn footprint(&self) -> usize {
+        size_of_val(self.particles) + size_of_val(self.pairs) + size_of_val(&*self.out)
+    }
 }
 
 impl<P: SphereSlot, D: DecompositionSlot> DecomposeAccess for ParticleDecompose<'_, P, D> {
@@ -669,6 +699,9 @@ impl<P: SphereSlot, D> Gather for ContactDecompose<'_, P, D> {
     #[inline(always)]
     fn body_refs(&self, c: usize) -> (&P, &P, bool) {
         (&self.body1[c], &self.body2[c], true)
+    }
+    fn footprint(&self) -> usize {
+        size_of_val(self.body1) + size_of_val(self.body2) + size_of_val(&*self.out)
     }
 }
 
@@ -739,6 +772,16 @@ fn conv3<L: Lanes>(lo: &Vec3<L::Geo>, hi: &Vec3<L::Geo>) -> Vec3<L> {
 /// the state in the prefetch, 87 at every distance.
 const TOUCH_AHEAD: usize = 48;
 
+/// A call whose host arrays take fewer bytes than this ([`Gather::footprint`]) does not
+/// prefetch: its data most likely sits in cache already (the host has just written it, or the
+/// previous step read it), where the prefetches only cost instructions. 1 MiB is at most the
+/// L2 cache of current x86 cores and well inside any L3. Measured on the Zen 5 host of
+/// docs/performance.md (workload A, alternating runs, every SIMD kernel, a build without
+/// prefetches against one with): 8-14% less time at 2,000 contacts (about 0.3 MB), 5-11% at
+/// 6,000 and 20,000 (1 and 3 MB), 1-6% at 60,000 (10 MB), 9-31% more at 200,000 (32 MB, this
+/// CPU's L3) and 30-50% more at 1.2 million.
+pub const PREFETCH_MIN_BYTES: usize = 1 << 20;
+
 /// Bits `0..lanes` set.
 #[inline(always)]
 fn lane_bits(lanes: usize) -> u64 {
@@ -803,17 +846,19 @@ fn refuse_ungatherable<A: Gather>(access: &A, n: usize, report: &mut BatchReport
 /// The chunk of contacts starting at `c0`: how many lanes are real, each lane's contact index
 /// (lanes past the end repeat the last contact; their results are dropped), the two bodies of
 /// each lane, and the mask of lanes whose particle indices are in range. Prefetches the chunk
-/// `TOUCH_AHEAD` contacts ahead.
+/// `TOUCH_AHEAD` contacts ahead when `PREFETCH` ([`Gather::prefetching`]).
 #[inline(always)]
 #[allow(clippy::type_complexity)]
-fn chunk<L: Lanes, A: Gather>(
+fn chunk<const PREFETCH: bool, L: Lanes, A: Gather>(
     access: &A,
     c0: usize,
     n: usize,
 ) -> (usize, L::Arr<usize>, L::Arr<(&A::P, &A::P)>, u64) {
     let lanes = (n - c0).min(L::N);
-    for k in 0..L::N {
-        access.touch(c0 + TOUCH_AHEAD + k);
+    if PREFETCH {
+        for k in 0..L::N {
+            access.touch(c0 + TOUCH_AHEAD + k);
+        }
     }
     let mut idx = L::arr(c0);
     for k in 0..L::N {
@@ -1018,9 +1063,11 @@ fn decomposition_of_lane(
 }
 
 /// Decomposes every contact of `access` (lane type `L`; in `f32` lanes the geometry is `f64`
-/// and the rates `f32`).
+/// and the rates `f32`), touching the contacts ahead when `PREFETCH` (pass
+/// [`Gather::prefetching`] of `access`; a constant for the reason given at
+/// `block::step_kernel`).
 #[inline(always)]
-pub fn decompose_kernel<L: Lanes, A: DecomposeAccess>(
+pub fn decompose_kernel<const PREFETCH: bool, L: Lanes, A: DecomposeAccess>(
     options: GeometryOptions,
     parts: Parts,
     access: &mut A,
@@ -1032,7 +1079,7 @@ pub fn decompose_kernel<L: Lanes, A: DecomposeAccess>(
     }
     let mut c0 = 0;
     while c0 < n {
-        let (lanes, _idx, refs, index_ok) = chunk::<L, A>(&*access, c0, n);
+        let (lanes, _idx, refs, index_ok) = chunk::<PREFETCH, L, A>(&*access, c0, n);
         let gathered = gather::<L, A::P>(&refs, options);
         let d = decompose_pair_with_geometry(
             gathered.geometry_in(),

@@ -31,7 +31,7 @@ use crate::batch::history::{
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactSteps, DecomposeAccess, DecompositionSlot,
-    GroupCopy, LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, Scene,
+    Gather, GroupCopy, LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, Scene,
     SlidingOverrides, SphereSlot, StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
@@ -457,12 +457,20 @@ pub trait CAccess: StepAccess<P = rsl_sphere, State: CState> {}
 
 impl<A: StepAccess<P = rsl_sphere, State: CState>> CAccess for A {}
 
-fn scalar_f64<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
-    step_kernel::<f64, S, A, _>(m, dt, a, PortableCopy)
+fn scalar_f64<const S: u8, const P: bool, A: CAccess>(
+    m: &Model,
+    dt: f64,
+    a: &mut A,
+) -> BatchReport {
+    step_kernel::<f64, S, P, A, _>(m, dt, a, PortableCopy)
 }
 
-fn scalar_f32<const S: u8, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
-    step_kernel::<f32, S, A, _>(m, dt, a, PortableCopy)
+fn scalar_f32<const S: u8, const P: bool, A: CAccess>(
+    m: &Model,
+    dt: f64,
+    a: &mut A,
+) -> BatchReport {
+    step_kernel::<f32, S, P, A, _>(m, dt, a, PortableCopy)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -473,7 +481,7 @@ mod x86 {
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn avx2_f64<const S: u8, A: CAccess>(
+    pub(super) unsafe fn avx2_f64<const S: u8, const P: bool, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
@@ -488,56 +496,56 @@ mod x86 {
         // over 4 lanes. (On the Zen 4 host, with the earlier kernel, the two
         // measured the same: 55.3 against 55.2 ns.)
         // SAFETY: the caller guarantees AVX2.
-        step_kernel::<F64x4x2, S, A, _>(m, dt, a, unsafe { A::State::avx2() })
+        step_kernel::<F64x4x2, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
     }
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn avx2_f32<const S: u8, A: CAccess>(
+    pub(super) unsafe fn avx2_f32<const S: u8, const P: bool, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
         // SAFETY: the caller guarantees AVX2.
-        step_kernel::<F32x8N, S, A, _>(m, dt, a, unsafe { A::State::avx2() })
+        step_kernel::<F32x8N, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
     }
 
     /// # Safety
     /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn avx512_f64<const S: u8, A: CAccess>(
+    pub(super) unsafe fn avx512_f64<const S: u8, const P: bool, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
         // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-        step_kernel::<F64x8, S, A, _>(m, dt, a, unsafe { A::State::avx512() })
+        step_kernel::<F64x8, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
     }
 
     /// # Safety
     /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn avx512_f32<const S: u8, A: CAccess>(
+    pub(super) unsafe fn avx512_f32<const S: u8, const P: bool, A: CAccess>(
         m: &Model,
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
         // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-        step_kernel::<F32x8W, S, A, _>(m, dt, a, unsafe { A::State::avx512() })
+        step_kernel::<F32x8W, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
     }
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn decompose_avx2<A: DecomposeAccess>(
+    pub(super) unsafe fn decompose_avx2<const P: bool, A: DecomposeAccess>(
         o: GeometryOptions,
         p: Parts,
         f32: bool,
         a: &mut A,
     ) -> BatchReport {
         if f32 {
-            decompose_kernel::<F32x8N, A>(o, p, a)
+            decompose_kernel::<P, F32x8N, A>(o, p, a)
         } else {
             // Four lanes. Eight in two ymm did not pay here: on `F64x4x2` (shared with the
             // step) the step kernels compiled to different code that ran 4-7% slower in cache
@@ -545,61 +553,74 @@ mod x86 {
             // (the step's code unchanged) the decomposition itself ran 9-11% slower than on
             // four lanes (A, 2,000 and 1.2M contacts, alternating runs: 21.1 against 23.0 and
             // 22.6 against 25.1 ns per contact).
-            decompose_kernel::<F64x4, A>(o, p, a)
+            decompose_kernel::<P, F64x4, A>(o, p, a)
         }
     }
 
     /// # Safety
     /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn decompose_avx512<A: DecomposeAccess>(
+    pub(super) unsafe fn decompose_avx512<const P: bool, A: DecomposeAccess>(
         o: GeometryOptions,
         p: Parts,
         f32: bool,
         a: &mut A,
     ) -> BatchReport {
         if f32 {
-            decompose_kernel::<F32x8W, A>(o, p, a)
+            decompose_kernel::<P, F32x8W, A>(o, p, a)
         } else {
-            decompose_kernel::<F64x8, A>(o, p, a)
+            decompose_kernel::<P, F64x8, A>(o, p, a)
         }
     }
 }
 
-/// Calls `$f::<scene code, A>$args` with the scene as a compile-time constant: one of the
+/// Calls `$f::<scene code, $p, A>$args` with the scene as a compile-time constant: one of the
 /// listed scenes, else the generic kernel (so that only the listed scenes' kernels are
 /// compiled).
 macro_rules! by_scene {
-    ($scene:expr, [$($s:ident),*], $f:ident, $args:tt) => {
+    ($scene:expr, [$($s:ident),*], $f:ident, $p:literal, $args:tt) => {
         match $scene {
-            $(Scene::$s => $f::<{ Scene::$s as u8 }, _> $args,)*
+            $(Scene::$s => $f::<{ Scene::$s as u8 }, $p, _> $args,)*
             #[allow(unreachable_patterns)]
-            _ => $f::<0, _> $args,
+            _ => $f::<0, $p, _> $args,
         }
     };
 }
 
 /// Runs the kernel of `$config` (precision and SIMD level, checked available by the caller)
-/// for `$scene`, compiling the listed scenes' kernels.
-macro_rules! by_kernel {
-    ($config:expr, $scene:expr, $scenes:tt, $args:tt) => {
+/// for `$scene`, prefetching or not (`$p`), compiling the listed scenes' kernels.
+macro_rules! by_level {
+    ($config:expr, $scene:expr, $scenes:tt, $p:literal, $args:tt) => {
         match ($config.simd, $config.f32) {
-            (Simd::Scalar, false) => by_scene!($scene, $scenes, scalar_f64, $args),
-            (Simd::Scalar, true) => by_scene!($scene, $scenes, scalar_f32, $args),
+            (Simd::Scalar, false) => by_scene!($scene, $scenes, scalar_f64, $p, $args),
+            (Simd::Scalar, true) => by_scene!($scene, $scenes, scalar_f32, $p, $args),
             #[cfg(target_arch = "x86_64")]
             // SAFETY: the caller checked `config.simd.available()`: the CPU has AVX2 and FMA.
-            (Simd::Avx2, false) => unsafe { by_scene!($scene, $scenes, avx2_f64, $args) },
+            (Simd::Avx2, false) => unsafe { by_scene!($scene, $scenes, avx2_f64, $p, $args) },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: as above (AVX2 and FMA present).
-            (Simd::Avx2, true) => unsafe { by_scene!($scene, $scenes, avx2_f32, $args) },
+            (Simd::Avx2, true) => unsafe { by_scene!($scene, $scenes, avx2_f32, $p, $args) },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-            (Simd::Avx512, false) => unsafe { by_scene!($scene, $scenes, avx512_f64, $args) },
+            (Simd::Avx512, false) => unsafe { by_scene!($scene, $scenes, avx512_f64, $p, $args) },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: as above.
-            (Simd::Avx512, true) => unsafe { by_scene!($scene, $scenes, avx512_f32, $args) },
+            (Simd::Avx512, true) => unsafe { by_scene!($scene, $scenes, avx512_f32, $p, $args) },
             #[cfg(not(target_arch = "x86_64"))]
             _ => unreachable!("only the scalar level is available off x86-64"),
+        }
+    };
+}
+
+/// [`by_level`] with the kernels that prefetch when `$access` is large enough to need it
+/// ([`Gather::prefetching`]), else the ones that do not: each its own function, so that the
+/// choice costs nothing per contact and leaves the prefetching kernels' code as it was.
+macro_rules! by_kernel {
+    ($config:expr, $scene:expr, $scenes:tt, $access:expr, $args:tt) => {
+        if Gather::prefetching(&*$access) {
+            by_level!($config, $scene, $scenes, true, $args)
+        } else {
+            by_level!($config, $scene, $scenes, false, $args)
         }
     };
 }
@@ -640,6 +661,7 @@ pub fn run_step<A: CAccess>(
             RollingTwistingLammps,
             RollingTwistingExact
         ],
+        access,
         (model, dt, access)
     );
     Ok((report, scene))
@@ -678,6 +700,7 @@ pub fn run_history_step<const W: usize, V: AddSlot>(
             config,
             scene,
             [FullLammps, SlidingLammps, RollingTwistingLammps],
+            access,
             (model, dt, access)
         ),
         WITH_NORMAL => by_kernel!(
@@ -689,9 +712,10 @@ pub fn run_history_step<const W: usize, V: AddSlot>(
                 SlidingRollingExact,
                 RollingTwistingExact
             ],
+            access,
             (model, dt, access)
         ),
-        _ => by_kernel!(config, scene, [], (model, dt, access)),
+        _ => by_kernel!(config, scene, [], access, (model, dt, access)),
     };
     Ok((report, scene))
 }
@@ -708,18 +732,35 @@ pub fn run_decompose<A: DecomposeAccess>(
             "SIMD level not supported by this CPU".to_string(),
         ));
     }
-    Ok(match config.simd {
-        Simd::Scalar if config.f32 => decompose_kernel::<f32, A>(options, parts, access),
-        Simd::Scalar => decompose_kernel::<f64, A>(options, parts, access),
+    if Gather::prefetching(&*access) {
+        Ok(decompose_at::<true, A>(options, parts, access, config))
+    } else {
+        Ok(decompose_at::<false, A>(options, parts, access, config))
+    }
+}
+
+/// The decomposition kernel of `config`'s level and precision (checked available by the
+/// caller), prefetching or not (`P`, as in [`run_step`]).
+fn decompose_at<const P: bool, A: DecomposeAccess>(
+    options: GeometryOptions,
+    parts: Parts,
+    access: &mut A,
+    config: BatchConfig,
+) -> BatchReport {
+    match config.simd {
+        Simd::Scalar if config.f32 => decompose_kernel::<P, f32, A>(options, parts, access),
+        Simd::Scalar => decompose_kernel::<P, f64, A>(options, parts, access),
         #[cfg(target_arch = "x86_64")]
-        // SAFETY: `available()` checked AVX2 and FMA above.
-        Simd::Avx2 => unsafe { x86::decompose_avx2(options, parts, config.f32, access) },
+        // SAFETY: the caller checked `available()`: AVX2 and FMA.
+        Simd::Avx2 => unsafe { x86::decompose_avx2::<P, A>(options, parts, config.f32, access) },
         #[cfg(target_arch = "x86_64")]
-        // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA above.
-        Simd::Avx512 => unsafe { x86::decompose_avx512(options, parts, config.f32, access) },
+        // SAFETY: the caller checked `available()`: AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+        Simd::Avx512 => unsafe {
+            x86::decompose_avx512::<P, A>(options, parts, config.f32, access)
+        },
         #[cfg(not(target_arch = "x86_64"))]
         _ => unreachable!("only the scalar level is available off x86-64"),
-    })
+    }
 }
 
 /// Borrows `n` elements of an input array; NULL is allowed only for `n = 0`.
@@ -918,6 +959,10 @@ unsafe fn particle_args<'a>(
 /// damping is refused. The energy terms are not returned: a model that tracks energy has them
 /// computed and checked finite, as `rsl_contact_step` does (turn tracking off for the batch if
 /// they are not wanted).
+///
+/// Speed: a call whose arrays take at least 1 MiB in all prefetches each contact's state and
+/// bodies 48 contacts ahead; a smaller call, whose data is most likely in cache already, does
+/// not (the prefetches would only cost instructions). The results are the same either way.
 ///
 /// Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
 /// centres, branch <= 0, non-finite result, energy terms included) are
@@ -1196,7 +1241,7 @@ pub struct rsl_batch_contact_params {
 /// Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
 /// `normal_force[c]`, `states[c]`, and its loads are **written** to `out[c]`. No two contacts
 /// share an output, so ranges of contacts can run on different threads. Otherwise as
-/// `rsl_batch_step` (same validation, skipping and report).
+/// `rsl_batch_step` (same validation, skipping, report and prefetching rule).
 ///
 /// # Safety
 /// Every array must hold `n` elements (NULL only when `n = 0`); `states`, `out` and `report`
