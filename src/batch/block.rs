@@ -832,11 +832,11 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
 /// kernels do not use it: they read the structs directly).
 ///
 /// `PREFETCH`: whether to touch the contacts ahead; pass
-/// [`Gather::prefetching`](super::Gather::prefetching) of `access`. It is a constant, so that a caller compiles the two
-/// kernels as separate functions, the prefetching one the same code as before the choice
-/// existed: a run-time test in the loops, or two copies in one function, changed how other
-/// kernels compiled (in cache a few took 1.2-1.7x the time; at 1.2M contacts some took 8-26%
-/// more).
+/// [`Gather::prefetching`](super::Gather::prefetching) of `access`. It is a constant, so that
+/// a caller compiles the two kernels as separate functions, the prefetching one the same code
+/// as before the choice existed: a run-time test in the loops, or two copies in one function,
+/// changed how other kernels compiled (in cache a few took 1.2-1.7x the time; at 1.2M contacts
+/// some took 8-26% more).
 #[inline(always)]
 pub fn step_kernel<
     L: Lanes,
