@@ -145,6 +145,27 @@ fn scenario(np: usize, nc: usize, seed: u64) -> Scenario {
     }
 }
 
+/// Reorders the contacts of `sc` by body 1 (a stable sort: bodies 2 keep their random order
+/// within a run), as a DEM code's neighbour list has them.
+fn sort_by_body1(sc: &mut Scenario) {
+    let mut order: Vec<usize> = (0..sc.pairs.len()).collect();
+    order.sort_by_key(|&c| sc.pairs[c][0]);
+    sc.pairs = order.iter().map(|&c| sc.pairs[c]).collect();
+    sc.normal_force = order.iter().map(|&c| sc.normal_force[c]).collect();
+    sc.states = order.iter().map(|&c| sc.states[c]).collect();
+}
+
+/// The per-contact copies of body 1 and body 2 that the contact-major call reads.
+fn gathered_bodies(sc: &Scenario) -> (Vec<rsl_sphere>, Vec<rsl_sphere>) {
+    let body = |k: usize| {
+        sc.pairs
+            .iter()
+            .map(|p| sc.particles[p[k] as usize])
+            .collect()
+    };
+    (body(0), body(1))
+}
+
 fn configs() -> Vec<BatchConfig> {
     let mut out = Vec::new();
     for simd in [Simd::Scalar, Simd::Avx2, Simd::Avx512] {
@@ -209,16 +230,7 @@ fn contact_major_matches_per_contact_step() {
         );
         let sc = scenario(64, 203, 7);
         let (ref_loads, ref_states) = reference(&model, &sc, dt);
-        let body1: Vec<rsl_sphere> = sc
-            .pairs
-            .iter()
-            .map(|p| sc.particles[p[0] as usize])
-            .collect();
-        let body2: Vec<rsl_sphere> = sc
-            .pairs
-            .iter()
-            .map(|p| sc.particles[p[1] as usize])
-            .collect();
+        let (body1, body2) = gathered_bodies(&sc);
         for config in configs() {
             let mut states = sc.states.clone();
             let mut out = vec![rsl_batch_loads::default(); sc.pairs.len()];
@@ -344,12 +356,7 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
     let dt = 1e-4;
     let (model, _) = models()[0];
     let mut sc = scenario(40, 400, 23);
-    // Sort by body 1 (stable: bodies 2 keep their random order within a run).
-    let mut order: Vec<usize> = (0..sc.pairs.len()).collect();
-    order.sort_by_key(|&c| sc.pairs[c][0]);
-    sc.pairs = order.iter().map(|&c| sc.pairs[c]).collect();
-    sc.normal_force = order.iter().map(|&c| sc.normal_force[c]).collect();
-    sc.states = order.iter().map(|&c| sc.states[c]).collect();
+    sort_by_body1(&mut sc);
     let (ref_loads, _) = reference(&model, &sc, dt);
     let np = sc.particles.len();
     let start = |p: usize| rsl_vec3 {
@@ -440,23 +447,10 @@ fn calls_with_and_without_prefetching_give_the_same_bits() {
     // 9,000 contacts among 400 particles: 1.2 MB particle-major, 3.2 MB contact-major; a call
     // of 1,000 contacts stays well below.
     let mut sc = scenario(400, 9000, 31);
-    let mut order: Vec<usize> = (0..sc.pairs.len()).collect();
-    order.sort_by_key(|&c| sc.pairs[c][0]);
-    sc.pairs = order.iter().map(|&c| sc.pairs[c]).collect();
-    sc.normal_force = order.iter().map(|&c| sc.normal_force[c]).collect();
-    sc.states = order.iter().map(|&c| sc.states[c]).collect();
+    sort_by_body1(&mut sc);
     let nc = sc.pairs.len();
     let np = sc.particles.len();
-    let body1: Vec<rsl_sphere> = sc
-        .pairs
-        .iter()
-        .map(|p| sc.particles[p[0] as usize])
-        .collect();
-    let body2: Vec<rsl_sphere> = sc
-        .pairs
-        .iter()
-        .map(|p| sc.particles[p[1] as usize])
-        .collect();
+    let (body1, body2) = gathered_bodies(&sc);
     for (model, _) in models() {
         for config in configs() {
             // Particle-major: one call, then calls of `chunk` contacts on the same particles.
