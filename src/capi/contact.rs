@@ -990,14 +990,17 @@ const _: () = {
 };
 
 /// Whether every address is non-zero and a multiple of 8, tested without a branch per address:
-/// such an address minus 8 is a multiple of 8 below `2^63`, so the OR of all of them has
-/// neither a low bit nor the top bit set (two instructions per address). An address in the
-/// upper half of the address space (never a user-space one on x86-64 or AArch64) also gives
-/// "no": the caller then takes its reporting path, which checks each pointer on its own.
+/// the OR of all of them has no low bit set, and their minimum is not zero. Both folds stay in
+/// general registers: `rsl_contact_step_accumulate`'s last three pointers arrive on the stack,
+/// just stored by the caller, and a fold that LLVM vectorises (the earlier `a - 8` form) read
+/// two of them with one 16-byte load, which cannot take its data from two 8-byte stores and
+/// waits for them to reach the cache (a store-forwarding stall at the top of every call).
+/// `u64` minimum has no SSE2 instruction, so the SLP vectoriser leaves this form scalar.
 #[inline(always)]
 fn all_set_and_aligned(addresses: &[usize]) -> bool {
-    let bits = addresses.iter().fold(0, |acc, &a| acc | a.wrapping_sub(8));
-    bits & (7 | 1 << (usize::BITS - 1)) == 0
+    let low_bits = addresses.iter().fold(0, |acc, &a| acc | a);
+    let least = addresses.iter().fold(usize::MAX, |acc, &a| acc.min(a));
+    low_bits & 7 == 0 && least != 0
 }
 
 /// `rsl_contact_step_wall`'s step once its pointers are checked ([`checked_step_with`]).
