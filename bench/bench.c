@@ -71,6 +71,12 @@
  *                   baseline's time by less than the run-to-run scatter when tried.
  *   percontact_acc_c  rsl_contact_step_accumulate per contact (the library adds the loads)
  *   percontact_c    rsl_contact_step per contact + the host adds the loads
+ *   percontact_fill_c  rsl_contact_step_accumulate per contact from a host whose particles
+ *                   are in its own arrays (x, v, omega, radius apart, as in LAMMPS): it fills
+ *                   two rsl_sphere structs on its stack just before each call
+ *   percontact_fill64_c  the same host, filling the sphere pairs of 64 contacts into a small
+ *                   buffer first, then calling for each (the stores are done long before the
+ *                   library reads them: see docs/batch.md, "Filling the structs")
  *   batch_<p>_<l>   rsl_batch_step (particle-major), precision p = f64|f32, SIMD level
  *                   l = scalar|avx2|avx512 (each level rsl_batch_simd_support reports)
  *   history_<p>_<l>  rsl_batch_step_history (particle-major, packed histories of
@@ -118,6 +124,9 @@ typedef struct {
     rsl_sphere *b1, *b2; /* pre-gathered for the contact-major calls */
     rsl_batch_loads *loads;
     rsl_decomposition *dec;
+    /* The particles as a host keeps them in its own layout (LAMMPS: x, v, omega, radius in
+     * separate arrays), for the percontact_fill rows; NULL elsewhere. */
+    double *hx, *hv, *hw, *hr;
 } scene;
 
 static uint64_t rng_state = 12345;
@@ -711,6 +720,84 @@ static void percontact(scene *s) {
     }
 }
 
+/* The host's own particle arrays, from the scene's spheres (untimed). */
+static void host_arrays_alloc(scene *s) {
+    s->hx = malloc(s->np * 3 * sizeof(double));
+    s->hv = malloc(s->np * 3 * sizeof(double));
+    s->hw = malloc(s->np * 3 * sizeof(double));
+    s->hr = malloc(s->np * sizeof(double));
+    if (!s->hx || !s->hv || !s->hw || !s->hr) {
+        fprintf(stderr, "out of memory\n");
+        exit(1);
+    }
+    for (size_t k = 0; k < s->np; k++) {
+        const rsl_sphere *b = &s->p[k];
+        double *x = &s->hx[3 * k], *v = &s->hv[3 * k], *w = &s->hw[3 * k];
+        x[0] = b->position.x, x[1] = b->position.y, x[2] = b->position.z;
+        v[0] = b->velocity.x, v[1] = b->velocity.y, v[2] = b->velocity.z;
+        w[0] = b->angular_velocity.x, w[1] = b->angular_velocity.y, w[2] = b->angular_velocity.z;
+        s->hr[k] = b->radius;
+    }
+}
+
+static void host_arrays_free(scene *s) {
+    free(s->hx), free(s->hv), free(s->hw), free(s->hr);
+    s->hx = s->hv = s->hw = s->hr = NULL;
+}
+
+/* Particle k of the host's arrays as an rsl_sphere, field by field. */
+static inline void fill_sphere(const scene *s, size_t k, rsl_sphere *b) {
+    const double *x = &s->hx[3 * k], *v = &s->hv[3 * k], *w = &s->hw[3 * k];
+    b->position.x = x[0], b->position.y = x[1], b->position.z = x[2];
+    b->velocity.x = v[0], b->velocity.y = v[1], b->velocity.z = v[2];
+    b->angular_velocity.x = w[0], b->angular_velocity.y = w[1], b->angular_velocity.z = w[2];
+    b->radius = s->hr[k];
+}
+
+static void accumulate_or_die(const scene *s, size_t c, const rsl_sphere *b1,
+                              const rsl_sphere *b2, const rsl_contact_input *in) {
+    uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
+    int32_t status = rsl_contact_step_accumulate(MODEL, b1, b2, in, &s->st[c], &s->f[i],
+                                                 &s->t[i], &s->f[j], &s->t[j]);
+    if (status != RSL_OK) {
+        fprintf(stderr, "rsl_contact_step_accumulate failed at contact %zu: %s (%s)\n", c,
+                rsl_status_str(status), rsl_last_error_message());
+        exit(1);
+    }
+}
+
+static void percontact_fill(scene *s) {
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.dt = DT;
+    for (size_t c = 0; c < s->nc; c++) {
+        rsl_sphere b1, b2;
+        fill_sphere(s, s->pairs[2 * c], &b1);
+        fill_sphere(s, s->pairs[2 * c + 1], &b2);
+        in.normal_force = s->fn[c];
+        accumulate_or_die(s, c, &b1, &b2, &in);
+    }
+}
+
+#define FILL_AHEAD 64
+static void percontact_fill64(scene *s) {
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.dt = DT;
+    rsl_sphere b[FILL_AHEAD][2];
+    for (size_t c0 = 0; c0 < s->nc; c0 += FILL_AHEAD) {
+        size_t n = s->nc - c0 < FILL_AHEAD ? s->nc - c0 : FILL_AHEAD;
+        for (size_t k = 0; k < n; k++) {
+            fill_sphere(s, s->pairs[2 * (c0 + k)], &b[k][0]);
+            fill_sphere(s, s->pairs[2 * (c0 + k) + 1], &b[k][1]);
+        }
+        for (size_t k = 0; k < n; k++) {
+            in.normal_force = s->fn[c0 + k];
+            accumulate_or_die(s, c0 + k, &b[k][0], &b[k][1], &in);
+        }
+    }
+}
+
 static void percontact_acc(scene *s) {
     rsl_contact_input in;
     memset(&in, 0, sizeof in);
@@ -1032,6 +1119,12 @@ int main(int argc, char **argv) {
         if (want("percontact_acc_c"))
             row(g, "percontact_acc_c", timeit(&s, percontact_acc, reps), 1, &s);
         if (want("percontact_c")) row(g, "percontact_c", timeit(&s, percontact, reps), 1, &s);
+        if (want("percontact_fill")) {
+            host_arrays_alloc(&s);
+            row(g, "percontact_fill_c", timeit(&s, percontact_fill, reps), 1, &s);
+            row(g, "percontact_fill64_c", timeit(&s, percontact_fill64, reps), 1, &s);
+            host_arrays_free(&s);
+        }
         for (int prec = 0; prec < 2; prec++) {
             const char *p = prec ? "f32" : "f64";
             memset(&OPTS, 0, sizeof OPTS);
