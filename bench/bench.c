@@ -803,15 +803,8 @@ static void percontact_acc(scene *s) {
     memset(&in, 0, sizeof in);
     in.dt = DT;
     for (size_t c = 0; c < s->nc; c++) {
-        uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
         in.normal_force = s->fn[c];
-        int32_t status = rsl_contact_step_accumulate(MODEL, &s->p[i], &s->p[j], &in, &s->st[c],
-                                                     &s->f[i], &s->t[i], &s->f[j], &s->t[j]);
-        if (status != RSL_OK) {
-            fprintf(stderr, "rsl_contact_step_accumulate failed at contact %zu: %s (%s)\n", c,
-                    rsl_status_str(status), rsl_last_error_message());
-            exit(1);
-        }
+        accumulate_or_die(s, c, &s->p[s->pairs[2 * c]], &s->p[s->pairs[2 * c + 1]], &in);
     }
 }
 
