@@ -4,9 +4,7 @@
 //! whose squared length overflows (about 1.3e154 in `f64`) is clipped from a rescaled copy
 //! ([`rescale_overflowed`]) in its lane only, so it gets its limit, not zero.
 
-use crate::scalar::{
-    lit, mask, norm, norm_squared, rescale_overflowed, select, select3, Real, Vec3,
-};
+use crate::scalar::{lit, mask, norm_squared, rescale_overflowed, select, select3, Real, Vec3};
 use simba::simd::SimdBool;
 
 /// How the limit is applied when the trial load exceeds it.
@@ -106,6 +104,35 @@ fn energy_of<T: Real>(load2: T, k: T) -> T {
     )
 }
 
+/// Whether `|v| <= limit` is certain from `v2 = |v|^2` alone, so that the clip test
+/// `sqrt(v2) > limit` is false without waiting for the square root. Decided only in the
+/// one-lane double step (the per-contact call, where that square root is on the critical path
+/// of every contact that does not slip); always false for SIMD lanes, which compute every lane
+/// anyway (measured no faster there), and for `f32`.
+///
+/// The test is `limit >= 2^-511` and `v2 < limit^2 (1 - 2^-20)`. With `limit^2` a normal or
+/// infinite double, its computed value times `1 - 2^-20` is below the exact `limit^2`, so
+/// `v2 < limit^2` exactly, hence the correctly rounded `sqrt(v2)` is at most `limit`: the clip
+/// test gives the same answer, and the results the same bits. NaN and infinite `v2` fail the
+/// test (the exact comparison then decides).
+#[inline(always)]
+fn surely_within<T: Real>(v2: T, limit: T) -> bool {
+    if T::LANES != 1 || std::mem::size_of::<T>() != 8 {
+        return false;
+    }
+    let limit2 = limit * limit;
+    (limit.simd_ge(lit(SURELY_WITHIN_MIN_LIMIT))
+        & v2.simd_lt(limit2 * lit(1.0 - SURELY_WITHIN_MARGIN)))
+    .all()
+}
+
+/// `2^-511`: from this limit up, `limit^2` is a normal double (>= 2^-1022).
+const SURELY_WITHIN_MIN_LIMIT: f64 = 1.4916681462400413e-154;
+
+/// `2^-20`: the relative margin of [`surely_within`] (far above the `2^-52` the rounding of
+/// `limit^2` and of the product can take).
+const SURELY_WITHIN_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
+
 /// Steps a vector spring: the trial spring adds `v dt` (when `increment`), the trial load is
 /// the spring load minus `gamma v`, then the clip of `rule`.
 #[inline(always)]
@@ -137,72 +164,97 @@ pub fn vector_spring<T: Real>(
     let (load, new_spring, new_elastic, slipped, damped) = match rule {
         ClipRule::Total | ClipRule::Lammps => {
             let load = elastic_trial - damping_load;
-            let magnitude = norm(&load);
-            let slipped = magnitude.simd_gt(c.limit);
-            if slipped.none() {
-                // No lane slips: the selects below would all pick the trial values (skipping
-                // them changes no bit, and spares the clip's divisions in the common case).
-                (load, trial, elastic_trial, slipped, mask::<T>(true))
+            let load2 = norm_squared(&load);
+            if surely_within(load2, c.limit) {
+                // No lane slips, known without the square root (see `surely_within`).
+                (
+                    load,
+                    trial,
+                    elastic_trial,
+                    mask::<T>(false),
+                    mask::<T>(true),
+                )
             } else {
-                // Where |load|^2 overflowed, the load is clipped from its rescaled copy (and
-                // its true length decides whether it slips); other lanes keep their bits.
-                let (load_in_range, length, slipped) = match rescale_overflowed(&load, magnitude) {
-                    None => (load, magnitude, slipped),
-                    Some(r) => (load / r.divisor, r.scaled_norm, r.norm.simd_gt(c.limit)),
-                };
-                let scale = c.limit / select(slipped, length, T::one());
-                let clipped = load_in_range * scale;
-                let elastic_reset = clipped + damping_load;
-                let spring_reset = match storage {
-                    // `(-1/k) E`, one division for the three components, as LAMMPS
-                    // writes it (`-1.0/k_tangential*(...)`), hence its bits.
-                    Storage::Displacement => select3(
-                        k_positive,
-                        &(elastic_reset * (-(T::one() / safe_k))),
-                        &trial,
-                    ),
-                    Storage::Load => elastic_reset,
-                };
-                let mut new_spring = select3(slipped, &spring_reset, &trial);
-                let mut new_elastic = select3(slipped, &elastic_reset, &elastic_trial);
-                let mut load = select3(slipped, &clipped, &load);
-                let mut damped = mask::<T>(true);
-                if rule == ClipRule::Lammps {
-                    // LAMMPS: a slipping spring of zero length gives no load at all and stays
-                    // empty.
-                    let empty = slipped & norm_squared(&trial).simd_le(zero);
-                    load = select3(empty, &Vec3::zeros(), &load);
-                    new_spring = select3(empty, &trial, &new_spring);
-                    new_elastic = select3(empty, &elastic_trial, &new_elastic);
-                    damped = !empty;
+                let magnitude = load2.simd_sqrt();
+                let slipped = magnitude.simd_gt(c.limit);
+                if slipped.none() {
+                    // No lane slips: the selects below would all pick the trial values (skipping
+                    // them changes no bit, and spares the clip's divisions in the common case).
+                    (load, trial, elastic_trial, slipped, mask::<T>(true))
+                } else {
+                    // Where |load|^2 overflowed, the load is clipped from its rescaled copy (and
+                    // its true length decides whether it slips); other lanes keep their bits.
+                    let (load_in_range, length, slipped) =
+                        match rescale_overflowed(&load, magnitude) {
+                            None => (load, magnitude, slipped),
+                            Some(r) => (load / r.divisor, r.scaled_norm, r.norm.simd_gt(c.limit)),
+                        };
+                    let scale = c.limit / select(slipped, length, T::one());
+                    let clipped = load_in_range * scale;
+                    let elastic_reset = clipped + damping_load;
+                    let spring_reset = match storage {
+                        // `(-1/k) E`, one division for the three components, as LAMMPS
+                        // writes it (`-1.0/k_tangential*(...)`), hence its bits.
+                        Storage::Displacement => select3(
+                            k_positive,
+                            &(elastic_reset * (-(T::one() / safe_k))),
+                            &trial,
+                        ),
+                        Storage::Load => elastic_reset,
+                    };
+                    let mut new_spring = select3(slipped, &spring_reset, &trial);
+                    let mut new_elastic = select3(slipped, &elastic_reset, &elastic_trial);
+                    let mut load = select3(slipped, &clipped, &load);
+                    let mut damped = mask::<T>(true);
+                    if rule == ClipRule::Lammps {
+                        // LAMMPS: a slipping spring of zero length gives no load at all and stays
+                        // empty.
+                        let empty = slipped & norm_squared(&trial).simd_le(zero);
+                        load = select3(empty, &Vec3::zeros(), &load);
+                        new_spring = select3(empty, &trial, &new_spring);
+                        new_elastic = select3(empty, &elastic_trial, &new_elastic);
+                        damped = !empty;
+                    }
+                    (load, new_spring, new_elastic, slipped, damped)
                 }
-                (load, new_spring, new_elastic, slipped, damped)
             }
         }
         ClipRule::SpringOnly => {
-            let magnitude = norm(&elastic_trial);
-            let slipped = magnitude.simd_gt(c.limit);
-            if slipped.none() {
+            let trial2 = norm_squared(&elastic_trial);
+            if surely_within(trial2, c.limit) {
                 let load = elastic_trial - damping_load;
-                (load, trial, elastic_trial, slipped, !slipped)
+                (
+                    load,
+                    trial,
+                    elastic_trial,
+                    mask::<T>(false),
+                    mask::<T>(true),
+                )
             } else {
-                // As above: the spring and its load are scaled from copies divided by the
-                // same factor where |E|^2 overflowed.
-                let (trial_in_range, elastic_in_range, length, slipped) =
-                    match rescale_overflowed(&elastic_trial, magnitude) {
-                        None => (trial, elastic_trial, magnitude, slipped),
-                        Some(r) => (
-                            trial / r.divisor,
-                            elastic_trial / r.divisor,
-                            r.scaled_norm,
-                            r.norm.simd_gt(c.limit),
-                        ),
-                    };
-                let scale = c.limit / select(slipped, length, T::one());
-                let new_spring = select3(slipped, &(trial_in_range * scale), &trial);
-                let new_elastic = select3(slipped, &(elastic_in_range * scale), &elastic_trial);
-                let load = select3(slipped, &new_elastic, &(new_elastic - damping_load));
-                (load, new_spring, new_elastic, slipped, !slipped)
+                let magnitude = trial2.simd_sqrt();
+                let slipped = magnitude.simd_gt(c.limit);
+                if slipped.none() {
+                    let load = elastic_trial - damping_load;
+                    (load, trial, elastic_trial, slipped, !slipped)
+                } else {
+                    // As above: the spring and its load are scaled from copies divided by the
+                    // same factor where |E|^2 overflowed.
+                    let (trial_in_range, elastic_in_range, length, slipped) =
+                        match rescale_overflowed(&elastic_trial, magnitude) {
+                            None => (trial, elastic_trial, magnitude, slipped),
+                            Some(r) => (
+                                trial / r.divisor,
+                                elastic_trial / r.divisor,
+                                r.scaled_norm,
+                                r.norm.simd_gt(c.limit),
+                            ),
+                        };
+                    let scale = c.limit / select(slipped, length, T::one());
+                    let new_spring = select3(slipped, &(trial_in_range * scale), &trial);
+                    let new_elastic = select3(slipped, &(elastic_in_range * scale), &elastic_trial);
+                    let load = select3(slipped, &new_elastic, &(new_elastic - damping_load));
+                    (load, new_spring, new_elastic, slipped, !slipped)
+                }
             }
         }
     };
@@ -315,5 +367,113 @@ pub fn scalar_spring<T: Real>(
         spring: new_spring,
         slipped,
         energy,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use simba::simd::SimdValue;
+
+    /// The clip's own test, as `vector_spring` computes it after the square root.
+    fn clip_test_slips(v2: f64, limit: f64) -> bool {
+        v2.sqrt() > limit
+    }
+
+    /// `surely_within` may say "within" only where the clip test says "does not slip".
+    fn check(v2: f64, limit: f64) {
+        if surely_within(v2, limit) {
+            assert!(
+                !clip_test_slips(v2, limit),
+                "surely_within({v2:e}, {limit:e}) but sqrt(v2) = {:e} > limit",
+                v2.sqrt()
+            );
+        }
+    }
+
+    #[test]
+    fn surely_within_never_hides_a_slip_near_the_limit() {
+        let mut limits = vec![
+            SURELY_WITHIN_MIN_LIMIT,
+            SURELY_WITHIN_MIN_LIMIT.next_down(),
+            SURELY_WITHIN_MIN_LIMIT.next_up(),
+            f64::MIN_POSITIVE,
+            1e-300,
+            1e-160,
+            f64::MAX.sqrt(),
+            f64::MAX.sqrt().next_up(),
+            f64::MAX,
+            f64::INFINITY,
+            0.0,
+            -1.0,
+            f64::NAN,
+        ];
+        let mut x = 1.0e-200;
+        while x < 1.0e200 {
+            limits.push(x);
+            limits.push(x * 1.000_000_3);
+            x *= 7.3;
+        }
+        for &limit in &limits {
+            let l2 = limit * limit;
+            let mut candidates = vec![0.0, f64::INFINITY, f64::NAN, f64::MAX, l2];
+            let (mut below, mut above) = (l2, l2);
+            for _ in 0..64 {
+                below = below.next_down();
+                above = above.next_up();
+                candidates.extend([below, above]);
+            }
+            // Just inside and outside the margin.
+            let edge = l2 * (1.0 - SURELY_WITHIN_MARGIN);
+            let (mut e0, mut e1) = (edge, edge);
+            for _ in 0..64 {
+                e0 = e0.next_down();
+                e1 = e1.next_up();
+                candidates.extend([e0, e1]);
+            }
+            for v2 in candidates {
+                check(v2, limit);
+            }
+        }
+    }
+
+    #[test]
+    fn surely_within_takes_the_plain_no_slip_case() {
+        // The case it is for: a load well below a limit of ordinary size.
+        assert!(surely_within(0.25f64, 1.0));
+        assert!(surely_within(1e-30f64, 1e-12));
+        // Never for SIMD lanes or single precision (those compute the square root).
+        assert!(!surely_within(0.25f32, 1.0));
+        type Lanes4 = simba::simd::WideF64x4;
+        assert!(!surely_within(Lanes4::splat(0.25), Lanes4::splat(1.0)));
+        // Not at the limit, not for a tiny or negative limit, NaN or an infinite load.
+        assert!(!surely_within(1.0f64, 1.0));
+        assert!(!surely_within(0.0f64, SURELY_WITHIN_MIN_LIMIT.next_down()));
+        assert!(!surely_within(0.0f64, -1.0));
+        assert!(!surely_within(f64::NAN, 1.0));
+        assert!(!surely_within(f64::INFINITY, f64::INFINITY));
+    }
+
+    #[test]
+    fn surely_within_constants_are_the_powers_of_two_they_name() {
+        assert_eq!(SURELY_WITHIN_MIN_LIMIT, 2f64.powi(-511));
+        assert!((SURELY_WITHIN_MIN_LIMIT * SURELY_WITHIN_MIN_LIMIT).is_normal());
+        assert_eq!(SURELY_WITHIN_MARGIN, 2f64.powi(-20));
+    }
+
+    proptest! {
+        #[test]
+        fn surely_within_implies_no_slip_for_any_doubles(v2 in any::<f64>(), limit in any::<f64>()) {
+            check(v2, limit);
+        }
+
+        #[test]
+        fn surely_within_implies_no_slip_near_the_limit(
+            limit in 1e-150f64..1e150,
+            rel in -1e-5f64..1e-5,
+        ) {
+            check(limit * limit * (1.0 + rel), limit);
+        }
     }
 }
