@@ -56,6 +56,15 @@ const _: () =
 /// Eight contacts' values of one quantity (one row's share of a group).
 pub type GroupRow = [f64; GROUP];
 
+/// `[f(0), f(1), ..., f(GROUP - 1)]`, always inlined. `std::array::from_fn` is not: LLVM left
+/// it out of line in every SIMD kernel (two calls per group, for the body references), with a
+/// bounds check per element and the array passed back through memory.
+#[inline(always)]
+pub(crate) fn group_of<T>(f: impl Fn(usize) -> T) -> [T; GROUP] {
+    const _: () = assert!(GROUP == 8);
+    [f(0), f(1), f(2), f(3), f(4), f(5), f(6), f(7)]
+}
+
 /// How the block moves a group of [`GROUP`] consecutive contacts between the host's structs
 /// (`P` a body, `S` a state) and its rows: row `q`, slot `k` holds word `q` of contact `k`
 /// ([`BODY_WORDS`], [`STATE_WORDS`] give the word order). It only copies: every implementation
@@ -286,15 +295,11 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     let mut g = 0;
     while g < count {
         let contact = |k: usize| c0 + (g + k).min(count - 1);
-        // `body_refs` is called again for each body below rather than kept from this loop: an
-        // array of the 8 pairs' references measured slower (in cache, full LAMMPS set: AVX-512
-        // 29.5-30.2 against 27.7-28.9 ns, AVX2 37.3-40.0 against 35.9-36.3).
         for k in 0..GROUP {
             let (i, c) = (g + k, contact(k));
             if PREFETCH {
                 access.touch(c + TOUCH_AHEAD);
             }
-            b.index_ok |= (access.body_refs(c).2 as u64) << i;
             b.normal_force[i] = access.normal_force(c);
             if needs_kn {
                 b.normal_stiffness[i] = access.normal_stiffness(c);
@@ -306,18 +311,11 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
                 b.sliding_damping[i] = gamma[c];
             }
         }
-        copy.bodies(
-            std::array::from_fn(|k| access.body_refs(contact(k)).0),
-            group_mut(&mut b.body1, g),
-        );
-        copy.bodies(
-            std::array::from_fn(|k| access.body_refs(contact(k)).1),
-            group_mut(&mut b.body2, g),
-        );
-        copy.states(
-            std::array::from_fn(|k| access.state_ref(contact(k))),
-            group_mut(&mut b.state, g),
-        );
+        let refs = access.group_refs(c0 + g, (count - g).min(GROUP));
+        b.index_ok |= refs.index_ok << g;
+        copy.bodies(refs.body1, group_mut(&mut b.body1, g));
+        copy.bodies(refs.body2, group_mut(&mut b.body2, g));
+        copy.states(refs.states, group_mut(&mut b.state, g));
         g += GROUP;
     }
 }
@@ -377,11 +375,20 @@ impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
     }
     #[inline(always)]
     fn sliding(&self, given: (bool, bool)) -> (Option<L>, Option<L>) {
+        // `if`, not `bool::then` with a closure: LLVM left that closure out of line in the
+        // AVX2 single-precision kernels (scripts/check_kernels.sh now fails on it).
         let (b, at) = (self.block, self.at);
-        (
-            given.0.then(|| L::load(&b.sliding_stiffness[at..])),
-            given.1.then(|| L::load(&b.sliding_damping[at..])),
-        )
+        let stiffness = if given.0 {
+            Some(L::load(&b.sliding_stiffness[at..]))
+        } else {
+            None
+        };
+        let damping = if given.1 {
+            Some(L::load(&b.sliding_damping[at..]))
+        } else {
+            None
+        };
+        (stiffness, damping)
     }
     #[inline(always)]
     fn state(&self) -> ContactState<L> {

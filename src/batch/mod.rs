@@ -253,6 +253,18 @@ pub trait Gather {
     }
 }
 
+/// The references of one group of contacts ([`StepAccess::group_refs`]).
+pub struct GroupRefs<'a, P, S> {
+    /// Body 1 of each slot.
+    pub body1: [&'a P; block::GROUP],
+    /// Body 2 of each slot.
+    pub body2: [&'a P; block::GROUP],
+    /// The state of each slot.
+    pub states: [&'a S; block::GROUP],
+    /// Bit `k`: slot `k`'s particle indices were in range.
+    pub index_ok: u64,
+}
+
 /// What the step kernels read and write, per contact index `c < len()`.
 pub trait StepAccess: Gather {
     /// The state slot type.
@@ -282,6 +294,15 @@ pub trait StepAccess: Gather {
     fn state_group(&mut self, c: usize) -> &mut [Self::State; block::GROUP];
     /// Delivers the loads of a successful step of contact `c`.
     fn emit(&mut self, c: usize, loads: &PairLoads);
+    /// The bodies and states of contacts `first..first + n` (`1 <= n <= GROUP`, all
+    /// `< len()`), slot `k >= n` repeating the last, and a bit per slot whose particle indices
+    /// were in range. The default goes contact by contact ([`Gather::body_refs`],
+    /// [`StepAccess::state_ref`]); the particle- and contact-major accesses take a whole group
+    /// from one slice of each array, one bounds check per array instead of one per element.
+    #[inline(always)]
+    fn group_refs(&self, first: usize, n: usize) -> GroupRefs<'_, Self::P, Self::State> {
+        group_refs_by_contact(self, first, n)
+    }
     /// Delivers the loads of contacts `c0 + k` for each bit `k` of `ok`, in order: the same
     /// as [`StepAccess::emit`] for each (the default), bit for bit.
     #[inline(always)]
@@ -473,6 +494,31 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot> StepAccess for ParticleSteps<'_, P
         self.torque[i].add(l.torque1);
         self.torque[j].add(l.torque2);
     }
+    #[inline(always)]
+    fn group_refs(&self, first: usize, n: usize) -> GroupRefs<'_, P, S> {
+        if n < block::GROUP {
+            return group_refs_by_contact(self, first, n);
+        }
+        let pairs: &[[u32; 2]; block::GROUP] = self.pairs[first..first + block::GROUP]
+            .try_into()
+            .expect("a group of pairs");
+        let states: &[S; block::GROUP] = self.states[first..first + block::GROUP]
+            .try_into()
+            .expect("a group of states");
+        // `gatherable` (checked before any kernel runs): there is a particle 0.
+        let (len, fallback) = (self.particles.len(), &self.particles[0]);
+        let body = |i: u32| self.particles.get(i as usize).unwrap_or(fallback);
+        let mut index_ok = 0;
+        for (k, &[i, j]) in pairs.iter().enumerate() {
+            index_ok |= (((i as usize) < len && (j as usize) < len) as u64) << k;
+        }
+        GroupRefs {
+            body1: block::group_of(|k| body(pairs[k][0])),
+            body2: block::group_of(|k| body(pairs[k][1])),
+            states: block::group_of(|k| &states[k]),
+            index_ok,
+        }
+    }
     /// As [`StepAccess::emit`] contact by contact, but body 1's force and torque stay in
     /// registers while consecutive contacts share it (neighbour-list order): loaded once, the
     /// same additions in the same order, stored when body 1 changes. A body 2 equal to the
@@ -629,6 +675,46 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     #[inline(always)]
     fn emit(&mut self, c: usize, l: &PairLoads) {
         self.out[c].set(l);
+    }
+    #[inline(always)]
+    fn group_refs(&self, first: usize, n: usize) -> GroupRefs<'_, P, S> {
+        if n < block::GROUP {
+            return group_refs_by_contact(self, first, n);
+        }
+        let group = first..first + block::GROUP;
+        let body1: &[P; block::GROUP] = self.body1[group.clone()].try_into().expect("a group");
+        let body2: &[P; block::GROUP] = self.body2[group.clone()].try_into().expect("a group");
+        let states: &[S; block::GROUP] = self.states[group].try_into().expect("a group");
+        GroupRefs {
+            body1: block::group_of(|k| &body1[k]),
+            body2: block::group_of(|k| &body2[k]),
+            states: block::group_of(|k| &states[k]),
+            index_ok: lane_bits(block::GROUP),
+        }
+    }
+}
+
+/// [`StepAccess::group_refs`]' default, contact by contact: the particle- and contact-major
+/// accesses call it only for a call's last group when it is partial, so it stays out of line
+/// (inlined, it grew each SIMD kernel by about 700 instructions, and the AVX-512 kernels took
+/// 7-31% more time).
+#[cold]
+#[inline(never)]
+fn group_refs_by_contact<A: StepAccess + ?Sized>(
+    access: &A,
+    first: usize,
+    n: usize,
+) -> GroupRefs<'_, A::P, A::State> {
+    let c = |k: usize| first + k.min(n - 1);
+    let mut index_ok = 0;
+    for k in 0..block::GROUP {
+        index_ok |= (access.body_refs(c(k)).2 as u64) << k;
+    }
+    GroupRefs {
+        body1: block::group_of(|k| access.body_refs(c(k)).0),
+        body2: block::group_of(|k| access.body_refs(c(k)).1),
+        states: block::group_of(|k| access.state_ref(c(k))),
+        index_ok,
     }
 }
 
