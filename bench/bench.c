@@ -1,11 +1,14 @@
 /* Benchmark driver of rollslide's batch kernels (run by `cargo bench --bench batch`).
  *
  * Usage: bench_driver [CONTACTS [REPS]] [--workload=A|B] [--slip=F] [--only=SUBSTRING]
+ *                     [--set=NAME]
  *   CONTACTS  number of contacts (default 1200000); REPS timed calls per row (default 5; the
  *             row's number is the fastest call). --workload: A (default) or B, below.
  *             --slip: fraction of the contacts that start beyond each law's limit (default
  *             0.25; see Histories). --only: measure only the rows whose name contains
- *             SUBSTRING (the baselines and floors always run; for profiling).
+ *             SUBSTRING, or only the row NAME with --only='NAME$' (the baselines and floors
+ *             always run; for profiling). --set: only the physics set NAME (full, rolltwist
+ *             or sliding, below).
  *
  * Workloads (both: particle radii 0.49-0.50, centres jittered by +-1e-3, every listed contact
  * overlapping by 0.007-0.033, normal force k_n * overlap):
@@ -94,10 +97,11 @@
  *                   baseline_c[noslip]
  *   batch_f64_<l>[SCENE]  workload A only: rsl_batch_step of the other scenes at each level,
  *                   f64: full/exact, slide+roll/exact, generic(full/lammps) (group full),
- *                   roll+twist/exact, generic(rolltwist) (group rolltwist), sliding/exact
- *                   (group sliding). The exact scenes are the OBJECTIVE preset (exact rotation
- *                   transport, midplane branches): not the baseline's physics. generic(X) is
- *                   the set X with RSL_BATCH_GENERIC (the run-time-decision kernel).
+ *                   roll+twist/exact, generic(rolltwist) (group rolltwist), sliding/exact,
+ *                   generic(sliding) (group sliding), and generic(S) for each exact scene S.
+ *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
+ *                   midplane branches): not the baseline's physics. generic(X) is the model
+ *                   of X with RSL_BATCH_GENERIC (the run-time-decision kernel).
  * LOADS_DIFF: max |difference| of the accumulated forces and torques from the set's baseline,
  * relative to the largest baseline force (torque) component; STATE_DIFF: the same for the
  * springs, twisting angle and normal of the states after the call; FLAGS: number of contacts
@@ -353,6 +357,7 @@ static void build_fcc_sorted(scene *s, size_t nc_target) {
  * random fraction SLIP of the contacts, below it (0.05 to 0.95) otherwise. The dashpot and the
  * step's increment change the load by far less than the 5% margins, so exactly these contacts
  * clip, in an order no branch predictor learns. */
+static const char *ONLY_SET = NULL; /* --set=NAME: run only that physics set */
 static double SLIP = 0.25; /* --slip=F: the fraction of contacts beyond each limit */
 static double limit_multiple(void) {
     return urand() < SLIP ? 1.05 + 0.95 * urand() : 0.05 + 0.9 * urand();
@@ -842,7 +847,14 @@ static void batch(scene *s) {
 
 /* Optional filter: only the rows whose name contains it (the floors and baselines always run). */
 static const char *ONLY;
-static int want(const char *name) { return !ONLY || strstr(name, ONLY) != NULL; }
+/* --only=SUBSTRING, or --only=NAME$ for the row NAME alone. */
+static int want(const char *name) {
+    if (!ONLY) return 1;
+    size_t n = strlen(ONLY);
+    if (n > 0 && ONLY[n - 1] == '$')
+        return strlen(name) == n - 1 && strncmp(name, ONLY, n - 1) == 0;
+    return strstr(name, ONLY) != NULL;
+}
 
 /* Fastest of `reps` timed calls (states and accumulators restored before each, untimed): the
  * least disturbed call on a shared machine. Small batches repeat the call (each repetition
@@ -1017,6 +1029,8 @@ int main(int argc, char **argv) {
             }
         } else if (strncmp(argv[a], "--only=", 7) == 0) {
             ONLY = argv[a] + 7;
+        } else if (strncmp(argv[a], "--set=", 6) == 0) {
+            ONLY_SET = argv[a] + 6;
         } else if (argv[a][0] == '-') {
             fprintf(stderr, "unknown option %s\n", argv[a]);
             return 2;
@@ -1030,7 +1044,8 @@ int main(int argc, char **argv) {
     }
     if ((workload != 'A' && workload != 'B') || nc == 0 || reps < 1) {
         fprintf(stderr,
-                "usage: %s [CONTACTS [REPS]] [--workload=A|B] [--slip=F] [--only=SUBSTRING]\n",
+                "usage: %s [CONTACTS [REPS]] [--workload=A|B] [--slip=F] [--only=SUBSTRING] "
+                "[--set=NAME]\n",
                 argv[0]);
         return 2;
     }
@@ -1060,25 +1075,35 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 6 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 11 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     rsl_model *set_model[NSETS] = {make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 1),
                                    make_model(RSL_PRESET_LAMMPS_2021, 0, 1, 1),
                                    make_model(RSL_PRESET_LAMMPS_2021, 1, 0, 0)};
-    /* other scenes (workload A), each in the group whose floor and baseline it is set against */
+    rsl_model *full_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 1, 1),
+              *slide_roll_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 1, 0),
+              *roll_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 1, 1),
+              *sliding_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 0);
+    /* other scenes (workload A), each in the group whose floor and baseline it is set against;
+     * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
         const char *name;
         rsl_model *model;
         uint32_t flags;
         int group;
     } extra[NEXTRA] = {
-        {"full/exact", make_model(RSL_PRESET_OBJECTIVE, 1, 1, 1), 0, FULL},
-        {"slide+roll/exact", make_model(RSL_PRESET_OBJECTIVE, 1, 1, 0), 0, FULL},
+        {"full/exact", full_exact, 0, FULL},
+        {"generic(full/exact)", full_exact, RSL_BATCH_GENERIC, FULL},
+        {"slide+roll/exact", slide_roll_exact, 0, FULL},
+        {"generic(slide+roll/exact)", slide_roll_exact, RSL_BATCH_GENERIC, FULL},
         {"generic(full/lammps)", set_model[FULL], RSL_BATCH_GENERIC, FULL},
-        {"roll+twist/exact", make_model(RSL_PRESET_OBJECTIVE, 0, 1, 1), 0, ROLLTWIST},
+        {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
+        {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},
-        {"sliding/exact", make_model(RSL_PRESET_OBJECTIVE, 1, 0, 0), 0, SLIDING},
+        {"sliding/exact", sliding_exact, 0, SLIDING},
+        {"generic(sliding/exact)", sliding_exact, RSL_BATCH_GENERIC, SLIDING},
+        {"generic(sliding)", set_model[SLIDING], RSL_BATCH_GENERIC, SLIDING},
     };
     printf("info scene_kernel");
     for (int k = 0; k < NSETS; k++) {
@@ -1101,6 +1126,7 @@ int main(int argc, char **argv) {
     char name[160];
     for (int set = 0; set < NSETS; set++) {
         const char *g = set_name[set];
+        if (ONLY_SET && strcmp(ONLY_SET, g) != 0) continue;
         double tp = timeit(&s, floor_plain, reps), tf = timeit(&s, floor_prefetch, reps);
         row(g, "floor_plain", tp, 0, &s);
         row(g, "floor_prefetch", tf, 0, &s);
