@@ -297,8 +297,9 @@ pub trait StepAccess: Gather {
     /// The bodies and states of contacts `first..first + n` (`1 <= n <= GROUP`, all
     /// `< len()`), slot `k >= n` repeating the last, and a bit per slot whose particle indices
     /// were in range. The default goes contact by contact ([`Gather::body_refs`],
-    /// [`StepAccess::state_ref`]); the particle- and contact-major accesses take a whole group
-    /// from one slice of each array, one bounds check per array instead of one per element.
+    /// [`StepAccess::state_ref`]) in a function kept out of line (an access on a hot path
+    /// overrides it); the particle- and contact-major accesses take a whole group from one
+    /// slice of each array, one bounds check per array instead of one per element.
     #[inline(always)]
     fn group_refs(&self, first: usize, n: usize) -> GroupRefs<'_, Self::P, Self::State> {
         group_refs_by_contact(self, first, n)
