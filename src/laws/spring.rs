@@ -133,6 +133,25 @@ const SURELY_WITHIN_MIN_LIMIT: f64 = 1.4916681462400413e-154;
 /// `limit^2` and of the product can take).
 const SURELY_WITHIN_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
 
+/// The length of a trial load whose squared length is `v2`, and the lanes where it exceeds
+/// `limit`, or `None` when no lane does: then the clip changes nothing (its selects would all
+/// pick the trial values, so skipping them changes no bit and spares its divisions). The
+/// one-lane double step decides most of those cases without the square root
+/// ([`surely_within`]).
+#[inline(always)]
+fn slipping<T: Real>(v2: T, limit: T) -> Option<(T, T::SimdBool)> {
+    if surely_within(v2, limit) {
+        return None;
+    }
+    let magnitude = v2.simd_sqrt();
+    let slipped = magnitude.simd_gt(limit);
+    if slipped.none() {
+        None
+    } else {
+        Some((magnitude, slipped))
+    }
+}
+
 /// Steps a vector spring: the trial spring adds `v dt` (when `increment`), the trial load is
 /// the spring load minus `gamma v`, then the clip of `rule`.
 #[inline(always)]
@@ -164,24 +183,15 @@ pub fn vector_spring<T: Real>(
     let (load, new_spring, new_elastic, slipped, damped) = match rule {
         ClipRule::Total | ClipRule::Lammps => {
             let load = elastic_trial - damping_load;
-            let load2 = norm_squared(&load);
-            if surely_within(load2, c.limit) {
-                // No lane slips, known without the square root (see `surely_within`).
-                (
+            match slipping(norm_squared(&load), c.limit) {
+                None => (
                     load,
                     trial,
                     elastic_trial,
                     mask::<T>(false),
                     mask::<T>(true),
-                )
-            } else {
-                let magnitude = load2.simd_sqrt();
-                let slipped = magnitude.simd_gt(c.limit);
-                if slipped.none() {
-                    // No lane slips: the selects below would all pick the trial values (skipping
-                    // them changes no bit, and spares the clip's divisions in the common case).
-                    (load, trial, elastic_trial, slipped, mask::<T>(true))
-                } else {
+                ),
+                Some((magnitude, slipped)) => {
                     // Where |load|^2 overflowed, the load is clipped from its rescaled copy (and
                     // its true length decides whether it slips); other lanes keep their bits.
                     let (load_in_range, length, slipped) =
@@ -220,23 +230,18 @@ pub fn vector_spring<T: Real>(
             }
         }
         ClipRule::SpringOnly => {
-            let trial2 = norm_squared(&elastic_trial);
-            if surely_within(trial2, c.limit) {
-                let load = elastic_trial - damping_load;
-                (
-                    load,
-                    trial,
-                    elastic_trial,
-                    mask::<T>(false),
-                    mask::<T>(true),
-                )
-            } else {
-                let magnitude = trial2.simd_sqrt();
-                let slipped = magnitude.simd_gt(c.limit);
-                if slipped.none() {
+            match slipping(norm_squared(&elastic_trial), c.limit) {
+                None => {
                     let load = elastic_trial - damping_load;
-                    (load, trial, elastic_trial, slipped, !slipped)
-                } else {
+                    (
+                        load,
+                        trial,
+                        elastic_trial,
+                        mask::<T>(false),
+                        mask::<T>(true),
+                    )
+                }
+                Some((magnitude, slipped)) => {
                     // As above: the spring and its load are scaled from copies divided by the
                     // same factor where |E|^2 overflowed.
                     let (trial_in_range, elastic_in_range, length, slipped) =
@@ -464,7 +469,10 @@ mod tests {
 
     proptest! {
         #[test]
-        fn surely_within_implies_no_slip_for_any_doubles(v2 in any::<f64>(), limit in any::<f64>()) {
+        fn surely_within_implies_no_slip_for_any_doubles(
+            v2 in any::<f64>(),
+            limit in any::<f64>(),
+        ) {
             check(v2, limit);
         }
 
