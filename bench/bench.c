@@ -357,7 +357,6 @@ static void build_fcc_sorted(scene *s, size_t nc_target) {
  * random fraction SLIP of the contacts, below it (0.05 to 0.95) otherwise. The dashpot and the
  * step's increment change the load by far less than the 5% margins, so exactly these contacts
  * clip, in an order no branch predictor learns. */
-static const char *ONLY_SET = NULL; /* --set=NAME: run only that physics set */
 static double SLIP = 0.25; /* --slip=F: the fraction of contacts beyond each limit */
 static double limit_multiple(void) {
     return urand() < SLIP ? 1.05 + 0.95 * urand() : 0.05 + 0.9 * urand();
@@ -847,6 +846,8 @@ static void batch(scene *s) {
 
 /* Optional filter: only the rows whose name contains it (the floors and baselines always run). */
 static const char *ONLY;
+/* --set=NAME: run only that physics set. */
+static const char *ONLY_SET;
 /* --only=SUBSTRING, or --only=NAME$ for the row NAME alone. */
 static int want(const char *name) {
     if (!ONLY) return 1;
@@ -1042,7 +1043,9 @@ int main(int argc, char **argv) {
             ONLY = argv[a]; /* the previous driver's third argument */
         }
     }
-    if ((workload != 'A' && workload != 'B') || nc == 0 || reps < 1) {
+    int set_ok = !ONLY_SET || strcmp(ONLY_SET, "full") == 0 || strcmp(ONLY_SET, "rolltwist") == 0 ||
+                 strcmp(ONLY_SET, "sliding") == 0;
+    if ((workload != 'A' && workload != 'B') || nc == 0 || reps < 1 || !set_ok) {
         fprintf(stderr,
                 "usage: %s [CONTACTS [REPS]] [--workload=A|B] [--slip=F] [--only=SUBSTRING] "
                 "[--set=NAME]\n",
