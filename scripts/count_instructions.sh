@@ -117,6 +117,7 @@ parts_order = [
     ("contact_step_with_geometry", "physics: rest"),
     ("step_lanes", "block rows and bookkeeping"),
     ("fast_pair_step", "per-contact call: rest"), ("pair_step_with", "per-contact call: rest"),
+    ("entered_step", "per-contact call: rest"),
 ]
 parts = collections.Counter()
 for a in addrs:

@@ -551,25 +551,42 @@ impl LoadsSink for SphereAccumulators {
     }
 }
 
-/// The whole per-contact step of one scene and one build, once its pointers are checked: the
-/// scene's fast path for a plain input; the checked step (which reports) for anything else
-/// and anything the fast path refuses. The loads go to the sink `K`. Returns the status.
-pub(crate) type PairStep<K> = unsafe fn(
-    &super::model::rsl_model,
-    &rsl_sphere,
-    &rsl_sphere,
-    &rsl_contact_input,
-    &mut rsl_contact_state,
-    K,
+/// `rsl_contact_step`'s signature: the handle's step for its scene on this CPU, which the entry
+/// calls in tail position with its own arguments once it has checked them (every pointer
+/// non-NULL and 8-aligned, the handle live). The same signature lets the compiler make that
+/// call a jump: no second frame, no copy of the arguments.
+pub(crate) type OutStep = unsafe extern "C" fn(
+    *const super::model::rsl_model,
+    *const rsl_sphere,
+    *const rsl_sphere,
+    *const rsl_contact_input,
+    *mut rsl_contact_state,
+    *mut rsl_contact_loads,
 ) -> i32;
 
-/// A scene's per-contact steps on this CPU, one per sink, kept in the model handle.
+/// `rsl_contact_step_accumulate`'s signature, for the same purpose as [`OutStep`] (its last
+/// three pointers arrive on the stack, and a jump leaves them where the host put them).
+pub(crate) type AccumulateStep = unsafe extern "C" fn(
+    *const super::model::rsl_model,
+    *const rsl_sphere,
+    *const rsl_sphere,
+    *const rsl_contact_input,
+    *mut rsl_contact_state,
+    *mut rsl_vec3,
+    *mut rsl_vec3,
+    *mut rsl_vec3,
+    *mut rsl_vec3,
+) -> i32;
+
+/// A scene's per-contact steps on this CPU, one per C entry, kept in the model handle. Each
+/// runs the scene's fast path for a plain input and the checked step (which reports) for
+/// anything else and anything the fast path refuses, behind the panic boundary.
 #[derive(Clone, Copy)]
 pub(crate) struct PairSteps {
     /// `rsl_contact_step`.
-    pub(crate) out: PairStep<LoadsOut>,
+    pub(crate) out: OutStep,
     /// `rsl_contact_step_accumulate`.
-    pub(crate) accumulate: PairStep<Accumulators>,
+    pub(crate) accumulate: AccumulateStep,
 }
 
 /// The per-contact steps of `scene` (the model handle keeps them), built for AVX2 when this CPU
@@ -579,77 +596,168 @@ pub(crate) struct PairSteps {
 /// the LAMMPS scene instead of 62) measured no faster (session 3: 1.18x against 1.16x the C
 /// baseline at 1M contacts, medians of 7) and was dropped.
 pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
-    let avx2 = Simd::Avx2.available();
-    PairSteps {
-        out: scene_steps(avx2)[scene as usize],
-        accumulate: scene_steps(avx2)[scene as usize],
-    }
+    scene_steps(Simd::Avx2.available())[scene as usize]
 }
 
-/// The step of each scene (indexed by `Scene as usize`, the scene's code) for the sink `K`, the
-/// AVX2 builds or the portable ones. Only a CPU with AVX2 and FMA may call the AVX2 builds.
+/// `[f::<0>, ..., f::<7>]`: a step function for each scene code.
+macro_rules! per_scene {
+    ($f:ident) => {
+        [
+            $f::<0>, $f::<1>, $f::<2>, $f::<3>, $f::<4>, $f::<5>, $f::<6>, $f::<7>,
+        ]
+    };
+}
+
+/// The steps of each scene (indexed by `Scene as usize`, the scene's code), the AVX2 builds or
+/// the portable ones. Only a CPU with AVX2 and FMA may call the AVX2 builds.
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
-fn scene_steps<K: LoadsSink>(avx2: bool) -> [PairStep<K>; 8] {
+fn scene_steps(avx2: bool) -> [PairSteps; 8] {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
-        return [
-            pair_step_avx2::<0, K>,
-            pair_step_avx2::<1, K>,
-            pair_step_avx2::<2, K>,
-            pair_step_avx2::<3, K>,
-            pair_step_avx2::<4, K>,
-            pair_step_avx2::<5, K>,
-            pair_step_avx2::<6, K>,
-            pair_step_avx2::<7, K>,
-        ];
+        let (out, accumulate): ([OutStep; 8], [AccumulateStep; 8]) =
+            (per_scene!(out_step_avx2), per_scene!(accumulate_step_avx2));
+        return std::array::from_fn(|i| PairSteps {
+            out: out[i],
+            accumulate: accumulate[i],
+        });
     }
-    [
-        pair_step_portable::<0, K>,
-        pair_step_portable::<1, K>,
-        pair_step_portable::<2, K>,
-        pair_step_portable::<3, K>,
-        pair_step_portable::<4, K>,
-        pair_step_portable::<5, K>,
-        pair_step_portable::<6, K>,
-        pair_step_portable::<7, K>,
-    ]
+    let (out, accumulate): ([OutStep; 8], [AccumulateStep; 8]) = (
+        per_scene!(out_step_portable),
+        per_scene!(accumulate_step_portable),
+    );
+    std::array::from_fn(|i| PairSteps {
+        out: out[i],
+        accumulate: accumulate[i],
+    })
 }
 
-/// [`pair_step_with`] built for AVX2 and FMA, with the AVX2 finiteness tests.
+/// [`pair_step_with`] on the entry's checked pointers, behind the panic boundary (the step
+/// writes nothing before it succeeds; a panic anywhere, none is known, is reported as
+/// `RSL_ERR_INTERNAL`).
 ///
 /// # Safety
-/// The CPU must support AVX2 and FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn pair_step_avx2<const S: u8, K: LoadsSink>(
-    m: &super::model::rsl_model,
-    body1: &rsl_sphere,
-    body2: &rsl_sphere,
-    input: &rsl_contact_input,
-    state: &mut rsl_contact_state,
+/// Every pointer non-NULL and 8-aligned (8 is the alignment of each type, asserted below),
+/// valid for its type during the call, `state` not overlapping the inputs; `model` a live
+/// handle, not modified during the call; `test` usable on this CPU.
+#[inline(always)]
+unsafe fn entered_step<const S: u8, F: FiniteTest, K: PairSink>(
+    test: F,
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
     sink: K,
 ) -> i32 {
-    // SAFETY: this function's own contract: the CPU has AVX2.
-    let test = unsafe { Avx2::assume() };
-    pair_step_with::<S, _, K>(test, m, body1, body2, input, state, sink)
+    // SAFETY: this function's contract.
+    let (m, b1, b2, inp, st) = unsafe { (&*model, &*body1, &*body2, &*contact, &mut *state) };
+    debug_assert_eq!(
+        m.scene,
+        Scene::classify(&m.model),
+        "stale scene in the handle"
+    );
+    guard_status(|| pair_step_with::<S, F, K>(test, m, b1, b2, inp, st, sink))
 }
 
-/// [`pair_step_with`] for any CPU.
-fn pair_step_portable<const S: u8, K: LoadsSink>(
-    m: &super::model::rsl_model,
-    body1: &rsl_sphere,
-    body2: &rsl_sphere,
-    input: &rsl_contact_input,
-    state: &mut rsl_contact_state,
-    sink: K,
+/// The AVX2 build of scene `S`'s `rsl_contact_step`, entered from it (see [`OutStep`]).
+///
+/// # Safety
+/// As [`entered_step`], `out` as `rsl_contact_step` requires (checked non-NULL and aligned);
+/// the CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe extern "C" fn out_step_avx2<const S: u8>(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    out: *mut rsl_contact_loads,
 ) -> i32 {
-    pair_step_with::<S, _, K>(Portable, m, body1, body2, input, state, sink)
+    // SAFETY: this function's contract (the CPU has AVX2; the output is valid and exclusive).
+    unsafe {
+        let (test, sink) = (Avx2::assume(), LoadsOut::new(out));
+        entered_step::<S, _, _>(test, model, body1, body2, contact, state, sink)
+    }
+}
+
+/// The portable build of scene `S`'s `rsl_contact_step` (see [`out_step_avx2`]).
+///
+/// # Safety
+/// As [`out_step_avx2`], on any CPU.
+unsafe extern "C" fn out_step_portable<const S: u8>(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    out: *mut rsl_contact_loads,
+) -> i32 {
+    // SAFETY: this function's contract (the output is valid and exclusive).
+    unsafe {
+        let sink = LoadsOut::new(out);
+        entered_step::<S, _, _>(Portable, model, body1, body2, contact, state, sink)
+    }
+}
+
+/// The AVX2 build of scene `S`'s `rsl_contact_step_accumulate`, entered from it (see
+/// [`AccumulateStep`]).
+///
+/// # Safety
+/// As [`entered_step`], the accumulators as `rsl_contact_step_accumulate` requires (checked
+/// non-NULL and aligned); the CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[allow(clippy::too_many_arguments)]
+unsafe extern "C" fn accumulate_step_avx2<const S: u8>(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+) -> i32 {
+    // SAFETY: this function's contract (the CPU has AVX2; the accumulators are valid and do not
+    // overlap the inputs or the state).
+    unsafe {
+        let test = Avx2::assume();
+        let sink = Accumulators::new(force1, torque1, force2, torque2);
+        entered_step::<S, _, _>(test, model, body1, body2, contact, state, sink)
+    }
+}
+
+/// The portable build of scene `S`'s `rsl_contact_step_accumulate` (see
+/// [`accumulate_step_avx2`]).
+///
+/// # Safety
+/// As [`accumulate_step_avx2`], on any CPU.
+#[allow(clippy::too_many_arguments)]
+unsafe extern "C" fn accumulate_step_portable<const S: u8>(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+) -> i32 {
+    // SAFETY: this function's contract (the accumulators are valid and do not overlap the
+    // inputs or the state).
+    unsafe {
+        let sink = Accumulators::new(force1, torque1, force2, torque2);
+        entered_step::<S, _, _>(Portable, model, body1, body2, contact, state, sink)
+    }
 }
 
 /// The step of scene code `S` with the finiteness test `test`: [`fast_pair_step`] for a plain
-/// input (`flags == 0`), [`pair_step_guarded`] for anything else or anything it refuses.
+/// input (`flags == 0`), [`PairSink::step_guarded`] for anything else or anything it refuses.
 #[inline(always)]
-fn pair_step_with<const S: u8, F: FiniteTest, K: LoadsSink>(
+fn pair_step_with<const S: u8, F: FiniteTest, K: PairSink>(
     test: F,
     m: &super::model::rsl_model,
     body1: &rsl_sphere,
@@ -664,21 +772,106 @@ fn pair_step_with<const S: u8, F: FiniteTest, K: LoadsSink>(
     {
         return super::status::RSL_OK;
     }
-    pair_step_guarded(&m.model, body1, body2, input, state, sink)
+    sink.step_guarded(&m.model, body1, body2, input, state)
 }
 
-/// [`pair_step_checked`] with its error recorded as the last error, its loads delivered to
-/// `sink` on success.
+/// A per-contact pair step's sink, with the way back to the checked step for an input the fast
+/// path does not take.
+pub(crate) trait PairSink: LoadsSink {
+    /// [`pair_step_checked`] with its loads delivered here: out of line, cold, and a function
+    /// that cannot unwind (see [`out_step_guarded`]).
+    fn step_guarded(
+        self,
+        model: &Model,
+        body1: &rsl_sphere,
+        body2: &rsl_sphere,
+        input: &rsl_contact_input,
+        state: &mut rsl_contact_state,
+    ) -> i32;
+}
+
+impl PairSink for LoadsOut {
+    #[inline(always)]
+    fn step_guarded(
+        self,
+        model: &Model,
+        body1: &rsl_sphere,
+        body2: &rsl_sphere,
+        input: &rsl_contact_input,
+        state: &mut rsl_contact_state,
+    ) -> i32 {
+        out_step_guarded(model, body1, body2, input, state, self.0)
+    }
+}
+
+impl PairSink for Accumulators {
+    #[inline(always)]
+    fn step_guarded(
+        self,
+        model: &Model,
+        body1: &rsl_sphere,
+        body2: &rsl_sphere,
+        input: &rsl_contact_input,
+        state: &mut rsl_contact_state,
+    ) -> i32 {
+        let Accumulators {
+            force1,
+            torque1,
+            force2,
+            torque2,
+        } = self;
+        accumulate_step_guarded(
+            model, body1, body2, input, state, force1, torque1, force2, torque2,
+        )
+    }
+}
+
+/// [`pair_step_checked`] with its error recorded as the last error, its loads written to
+/// `*out` on success, behind its own panic boundary ([`guard`]).
+///
+/// `extern "C"`, a function that cannot unwind, which the compiler knows: it is the only call
+/// the hot steps make (`scripts/check_kernels.sh` checks it), so their own panic boundary
+/// ([`guard_status`] in [`entered_step`]) has nothing left to catch in a release build and
+/// costs nothing. (With a Rust-ABI call here, the boundary kept its closure's data on the
+/// stack in every call.) The sink comes as its pointers, not as a struct, which the hot step
+/// would have copied to its stack in every call (C passes a 32-byte struct in memory). A panic
+/// inside is caught by `guard`; only one while reporting it (the thread's last-error slot
+/// already destroyed) would reach this boundary, where Rust aborts the process.
 #[inline(never)]
 #[cold]
-fn pair_step_guarded<K: LoadsSink>(
+extern "C" fn out_step_guarded(
     model: &Model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
     state: &mut rsl_contact_state,
-    sink: K,
+    out: *mut rsl_contact_loads,
 ) -> i32 {
+    // SAFETY: `out` came from a `LoadsOut`, whose contract it keeps.
+    let sink = unsafe { LoadsOut::new(out) };
+    guard(|| {
+        sink.deliver(&pair_step_checked(model, body1, body2, input, state)?);
+        Ok(())
+    })
+}
+
+/// [`out_step_guarded`] for the accumulators of an [`Accumulators`] sink.
+#[inline(never)]
+#[cold]
+#[allow(clippy::too_many_arguments)]
+extern "C" fn accumulate_step_guarded(
+    model: &Model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+) -> i32 {
+    // SAFETY: the pointers came from an `Accumulators`, whose contract they keep.
+    let sink = unsafe { Accumulators::new(force1, torque1, force2, torque2) };
     guard(|| {
         sink.deliver(&pair_step_checked(model, body1, body2, input, state)?);
         Ok(())
@@ -795,18 +988,34 @@ pub unsafe extern "C" fn rsl_contact_step(
         state as usize,
         out as usize,
     ]);
-    if pointers_ok {
-        // SAFETY: `out` is non-NULL and aligned (tested just above), writable and not
-        // overlapping the inputs by this function's contract.
-        let sink = unsafe { LoadsOut::new(out) };
-        // SAFETY: every pointer is non-NULL and aligned (tested just above); this function's
-        // contract.
-        if let Some(status) =
-            unsafe { pair_step_fast_entry(model, body1, body2, contact, state, sink) }
-        {
-            return status;
-        }
+    // SAFETY: `model` is non-NULL and aligned when `pointers_ok`, and points to a handle by
+    // this function's contract (`is_live` tells a live model from a freed or foreign one).
+    if pointers_ok && unsafe { (*model).is_live() } {
+        // SAFETY: the handle's step needs every pointer non-NULL and aligned and a live handle
+        // (both tested just above), the rest is this function's contract; it is an AVX2 build
+        // only when the CPU has AVX2 and FMA (`pair_steps_for`). A call in tail position with
+        // the same arguments: a jump.
+        return unsafe { ((*model).pair_steps.out)(model, body1, body2, contact, state, out) };
     }
+    // SAFETY: forwarded contract.
+    unsafe { out_step_reporting(model, body1, body2, contact, state, out) }
+}
+
+/// `rsl_contact_step` for arguments its fast entry did not take: [`pair_step_reporting`]
+/// with `out` checked. Out of line, so that the entry keeps no frame of its own.
+///
+/// # Safety
+/// As `rsl_contact_step`.
+#[cold]
+#[inline(never)]
+unsafe fn out_step_reporting(
+    model: *const super::model::rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    out: *mut rsl_contact_loads,
+) -> i32 {
     let sink = || {
         // SAFETY: `out` is checked non-NULL and aligned; writable and not overlapping the
         // inputs by `rsl_contact_step`'s contract.
@@ -816,72 +1025,50 @@ pub unsafe extern "C" fn rsl_contact_step(
     unsafe { pair_step_reporting(model, body1, body2, contact, state, sink) }
 }
 
-/// A sink with the model handle's step for it (`rsl_contact_step`'s or
-/// `rsl_contact_step_accumulate`'s).
-pub(crate) trait PairSink: LoadsSink {
-    /// This sink's step among the handle's.
-    fn step(steps: &PairSteps) -> PairStep<Self>;
-}
-
-impl PairSink for LoadsOut {
-    #[inline(always)]
-    fn step(steps: &PairSteps) -> PairStep<Self> {
-        steps.out
-    }
-}
-
-impl PairSink for Accumulators {
-    #[inline(always)]
-    fn step(steps: &PairSteps) -> PairStep<Self> {
-        steps.accumulate
-    }
-}
-
-/// The fast entry of the per-contact pair steps, for pointers already shown non-NULL and
-/// 8-aligned: the handle's step for the sink `K` behind the panic boundary (the step writes
-/// nothing before it succeeds; a panic anywhere, none is known, is reported as
-/// `RSL_ERR_INTERNAL`), or `None` when `model` is not a live handle (the caller's reporting
-/// path says so).
+/// `rsl_contact_step_accumulate` for arguments its fast entry did not take:
+/// [`pair_step_reporting`] with the accumulators checked. Out of line, as
+/// [`out_step_reporting`].
 ///
 /// # Safety
-/// Every pointer non-NULL and 8-aligned (8 is the alignment of each type, asserted below),
-/// valid for its type during the call, `state` not overlapping the inputs; the model not
-/// modified during the call.
-#[inline(always)]
-unsafe fn pair_step_fast_entry<K: PairSink>(
+/// As `rsl_contact_step_accumulate`.
+#[cold]
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn accumulate_step_reporting(
     model: *const super::model::rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
     state: *mut rsl_contact_state,
-    sink: K,
-) -> Option<i32> {
-    // SAFETY: this function's contract.
-    let (m, b1, b2, inp, st) = unsafe { (&*model, &*body1, &*body2, &*contact, &mut *state) };
-    if !m.is_live() {
-        return None;
-    }
-    debug_assert_eq!(
-        m.scene,
-        Scene::classify(&m.model),
-        "stale scene in the handle"
-    );
-    Some(guard_status(|| {
-        // SAFETY: the handle's step is an AVX2 build only when the CPU has AVX2 and FMA
-        // (`pair_steps_for`), its only requirement.
-        unsafe { K::step(&m.pair_steps)(m, b1, b2, inp, st, sink) }
-    }))
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+) -> i32 {
+    let sink = || {
+        // SAFETY: each accumulator is checked non-NULL and aligned; valid and not
+        // overlapping the inputs or the state by `rsl_contact_step_accumulate`'s contract.
+        Ok(unsafe {
+            Accumulators::new(
+                checked_pointer(force1, "force1")?,
+                checked_pointer(torque1, "torque1")?,
+                checked_pointer(force2, "force2")?,
+                checked_pointer(torque2, "torque2")?,
+            )
+        })
+    };
+    // SAFETY: forwarded contract.
+    unsafe { pair_step_reporting(model, body1, body2, contact, state, sink) }
 }
 
 /// The per-contact pair step for arguments its fast entry did not take (a NULL or misaligned
 /// pointer, a handle that is not a live model): checks each argument in order and reports the
 /// first bad one (`sink` checks the output pointers and makes the sink), or steps through the
-/// checked path. Out of line, so that its frame and saved registers are not paid by every call.
+/// checked path. Inlined into the entries' cold reporting functions.
 ///
 /// # Safety
 /// As `rsl_contact_step` for the pointers given here.
-#[cold]
-#[inline(never)]
+#[inline(always)]
 unsafe fn pair_step_reporting<K: LoadsSink>(
     model: *const super::model::rsl_model,
     body1: *const rsl_sphere,
@@ -950,33 +1137,23 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate(
         force2 as usize,
         torque2 as usize,
     ]);
-    if pointers_ok {
-        // SAFETY: the accumulators are non-NULL and aligned (tested just above), valid and not
-        // overlapping the inputs or the state by this function's contract (they stay raw
-        // pointers: they may alias each other).
-        let sink = unsafe { Accumulators::new(force1, torque1, force2, torque2) };
-        // SAFETY: every pointer is non-NULL and aligned (tested just above); this function's
-        // contract.
-        if let Some(status) =
-            unsafe { pair_step_fast_entry(model, body1, body2, contact, state, sink) }
-        {
-            return status;
-        }
-    }
-    let sink = || {
-        // SAFETY: each accumulator is checked non-NULL and aligned; valid and not
-        // overlapping the inputs or the state by this function's contract.
-        Ok(unsafe {
-            Accumulators::new(
-                checked_pointer(force1, "force1")?,
-                checked_pointer(torque1, "torque1")?,
-                checked_pointer(force2, "force2")?,
-                checked_pointer(torque2, "torque2")?,
+    // SAFETY: as in `rsl_contact_step`.
+    if pointers_ok && unsafe { (*model).is_live() } {
+        // SAFETY: as in `rsl_contact_step`; the accumulators are non-NULL and aligned (tested
+        // just above), valid and not overlapping the inputs or the state by this function's
+        // contract (they stay raw pointers: they may alias each other).
+        return unsafe {
+            ((*model).pair_steps.accumulate)(
+                model, body1, body2, contact, state, force1, torque1, force2, torque2,
             )
-        })
-    };
+        };
+    }
     // SAFETY: forwarded contract.
-    unsafe { pair_step_reporting(model, body1, body2, contact, state, sink) }
+    unsafe {
+        accumulate_step_reporting(
+            model, body1, body2, contact, state, force1, torque1, force2, torque2,
+        )
+    }
 }
 
 // The per-contact fast path tests every pointer for 8-byte alignment at once.
@@ -995,7 +1172,10 @@ const _: () = {
 /// just stored by the caller, and a fold that LLVM vectorises (the earlier `a - 8` form) read
 /// two of them with one 16-byte load, which cannot take its data from two 8-byte stores and
 /// waits for them to reach the cache (a store-forwarding stall at the top of every call).
-/// `u64` minimum has no SSE2 instruction, so the SLP vectoriser leaves this form scalar.
+/// `u64` minimum has no SSE2 instruction, so the SLP vectoriser leaves this form scalar. (A
+/// one-register form, the OR of `a.rotate_right(3) - 1` tested on its top three bits, came out
+/// longer: LLVM splits the OR into a tree over more registers, and each term takes a copy, a
+/// rotate and a decrement.)
 #[inline(always)]
 fn all_set_and_aligned(addresses: &[usize]) -> bool {
     let low_bits = addresses.iter().fold(0, |acc, &a| acc | a);
@@ -1423,10 +1603,7 @@ pub(super) mod tests {
             for model in models() {
                 let mut handle = rsl_model::live(model);
                 let scene = handle.scene as usize;
-                handle.pair_steps = PairSteps {
-                    out: scene_steps(avx2)[scene],
-                    accumulate: scene_steps(avx2)[scene],
-                };
+                handle.pair_steps = scene_steps(avx2)[scene];
                 for _ in 0..100 {
                     let mut c = case(&mut rng);
                     for _ in 0..3 {
