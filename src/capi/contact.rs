@@ -659,99 +659,80 @@ unsafe fn entered_step<const S: u8, F: FiniteTest, K: PairSink>(
     guard_status(|| pair_step_with::<S, F, K>(test, m, b1, b2, inp, st, sink))
 }
 
-/// The AVX2 build of scene `S`'s `rsl_contact_step`, entered from it (see [`OutStep`]).
-///
-/// # Safety
-/// As [`entered_step`], `out` as `rsl_contact_step` requires (checked non-NULL and aligned);
-/// the CPU must support AVX2 and FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe extern "C" fn out_step_avx2<const S: u8>(
-    model: *const super::model::rsl_model,
-    body1: *const rsl_sphere,
-    body2: *const rsl_sphere,
-    contact: *const rsl_contact_input,
-    state: *mut rsl_contact_state,
-    out: *mut rsl_contact_loads,
-) -> i32 {
-    // SAFETY: this function's contract (the CPU has AVX2; the output is valid and exclusive).
-    unsafe {
-        let (test, sink) = (Avx2::assume(), LoadsOut::new(out));
-        entered_step::<S, _, _>(test, model, body1, body2, contact, state, sink)
-    }
+/// The AVX2 and portable builds of one entry's step for scene `S` (`$avx2::<S>`,
+/// `$portable::<S>`): the entry's parameters (`$param`), the sink made from them (`$sink`),
+/// [`entered_step`] with the AVX2 or the portable finiteness test.
+macro_rules! entry_steps {
+    (
+        $(#[$doc:meta])*
+        $avx2:ident, $portable:ident,
+        ($($param:ident: $ty:ty),* $(,)?),
+        $sink:expr
+    ) => {
+        $(#[$doc])*
+        ///
+        /// The AVX2 build.
+        ///
+        /// # Safety
+        /// As [`entered_step`], the output pointers as the entry requires (checked non-NULL and
+        /// aligned, valid, not overlapping the inputs or the state); the CPU must support AVX2
+        /// and FMA.
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma")]
+        #[allow(clippy::too_many_arguments)]
+        unsafe extern "C" fn $avx2<const S: u8>(
+            model: *const super::model::rsl_model,
+            body1: *const rsl_sphere,
+            body2: *const rsl_sphere,
+            contact: *const rsl_contact_input,
+            state: *mut rsl_contact_state,
+            $($param: $ty),*
+        ) -> i32 {
+            // SAFETY: this function's contract (the CPU has AVX2; the output pointers are
+            // valid and exclusive, as the sink requires).
+            unsafe {
+                let (test, sink) = (Avx2::assume(), $sink);
+                entered_step::<S, _, _>(test, model, body1, body2, contact, state, sink)
+            }
+        }
+
+        $(#[$doc])*
+        ///
+        /// The portable build.
+        ///
+        /// # Safety
+        /// As the AVX2 build, on any CPU.
+        #[allow(clippy::too_many_arguments)]
+        unsafe extern "C" fn $portable<const S: u8>(
+            model: *const super::model::rsl_model,
+            body1: *const rsl_sphere,
+            body2: *const rsl_sphere,
+            contact: *const rsl_contact_input,
+            state: *mut rsl_contact_state,
+            $($param: $ty),*
+        ) -> i32 {
+            // SAFETY: this function's contract (the output pointers are valid and exclusive, as
+            // the sink requires).
+            unsafe {
+                let sink = $sink;
+                entered_step::<S, _, _>(Portable, model, body1, body2, contact, state, sink)
+            }
+        }
+    };
 }
 
-/// The portable build of scene `S`'s `rsl_contact_step` (see [`out_step_avx2`]).
-///
-/// # Safety
-/// As [`out_step_avx2`], on any CPU.
-unsafe extern "C" fn out_step_portable<const S: u8>(
-    model: *const super::model::rsl_model,
-    body1: *const rsl_sphere,
-    body2: *const rsl_sphere,
-    contact: *const rsl_contact_input,
-    state: *mut rsl_contact_state,
-    out: *mut rsl_contact_loads,
-) -> i32 {
-    // SAFETY: this function's contract (the output is valid and exclusive).
-    unsafe {
-        let sink = LoadsOut::new(out);
-        entered_step::<S, _, _>(Portable, model, body1, body2, contact, state, sink)
-    }
+entry_steps! {
+    /// Scene `S`'s `rsl_contact_step`, entered from it (see [`OutStep`]).
+    out_step_avx2, out_step_portable,
+    (out: *mut rsl_contact_loads),
+    LoadsOut::new(out)
 }
 
-/// The AVX2 build of scene `S`'s `rsl_contact_step_accumulate`, entered from it (see
-/// [`AccumulateStep`]).
-///
-/// # Safety
-/// As [`entered_step`], the accumulators as `rsl_contact_step_accumulate` requires (checked
-/// non-NULL and aligned); the CPU must support AVX2 and FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[allow(clippy::too_many_arguments)]
-unsafe extern "C" fn accumulate_step_avx2<const S: u8>(
-    model: *const super::model::rsl_model,
-    body1: *const rsl_sphere,
-    body2: *const rsl_sphere,
-    contact: *const rsl_contact_input,
-    state: *mut rsl_contact_state,
-    force1: *mut rsl_vec3,
-    torque1: *mut rsl_vec3,
-    force2: *mut rsl_vec3,
-    torque2: *mut rsl_vec3,
-) -> i32 {
-    // SAFETY: this function's contract (the CPU has AVX2; the accumulators are valid and do not
-    // overlap the inputs or the state).
-    unsafe {
-        let test = Avx2::assume();
-        let sink = Accumulators::new(force1, torque1, force2, torque2);
-        entered_step::<S, _, _>(test, model, body1, body2, contact, state, sink)
-    }
-}
-
-/// The portable build of scene `S`'s `rsl_contact_step_accumulate` (see
-/// [`accumulate_step_avx2`]).
-///
-/// # Safety
-/// As [`accumulate_step_avx2`], on any CPU.
-#[allow(clippy::too_many_arguments)]
-unsafe extern "C" fn accumulate_step_portable<const S: u8>(
-    model: *const super::model::rsl_model,
-    body1: *const rsl_sphere,
-    body2: *const rsl_sphere,
-    contact: *const rsl_contact_input,
-    state: *mut rsl_contact_state,
-    force1: *mut rsl_vec3,
-    torque1: *mut rsl_vec3,
-    force2: *mut rsl_vec3,
-    torque2: *mut rsl_vec3,
-) -> i32 {
-    // SAFETY: this function's contract (the accumulators are valid and do not overlap the
-    // inputs or the state).
-    unsafe {
-        let sink = Accumulators::new(force1, torque1, force2, torque2);
-        entered_step::<S, _, _>(Portable, model, body1, body2, contact, state, sink)
-    }
+entry_steps! {
+    /// Scene `S`'s `rsl_contact_step_accumulate`, entered from it (see [`AccumulateStep`]).
+    accumulate_step_avx2, accumulate_step_portable,
+    (force1: *mut rsl_vec3, torque1: *mut rsl_vec3, force2: *mut rsl_vec3, torque2: *mut rsl_vec3),
+    Accumulators::new(force1, torque1, force2, torque2)
 }
 
 /// The step of scene code `S` with the finiteness test `test`: [`fast_pair_step`] for a plain
