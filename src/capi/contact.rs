@@ -595,8 +595,13 @@ pub(crate) struct PairSteps {
 /// 10.3-11.3 s with the SSE2 one. An AVX-512 build (32 vector registers: 25 stack stores in
 /// the LAMMPS scene instead of 62) measured no faster (session 3: 1.18x against 1.16x the C
 /// baseline at 1M contacts, medians of 7) and was dropped.
+///
+/// A build with `--cfg rollslide_portable_pair_steps` (in `RUSTFLAGS`) always takes the
+/// portable steps: `scripts/sanitizers.sh` uses one under valgrind 3.19, whose decoder rejects
+/// an AVX encoding LLVM emits in some AVX2 steps (see that script).
 pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
-    scene_steps(Simd::Avx2.available())[scene as usize]
+    let avx2 = !cfg!(rollslide_portable_pair_steps) && Simd::Avx2.available();
+    scene_steps(avx2)[scene as usize]
 }
 
 /// `[f::<0>, ..., f::<7>]`: a step function for each scene code.
