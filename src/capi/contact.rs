@@ -834,10 +834,8 @@ extern "C" fn out_step_guarded(
     out: *mut rsl_contact_loads,
 ) -> i32 {
     // SAFETY: `out` came from a `LoadsOut`, whose contract it keeps.
-    let sink = unsafe { LoadsOut::new(out) };
-    guard(|| {
-        sink.deliver(&pair_step_checked(model, body1, body2, input, state)?);
-        Ok(())
+    guarded_checked_step(model, body1, body2, input, state, unsafe {
+        LoadsOut::new(out)
     })
 }
 
@@ -858,6 +856,20 @@ extern "C" fn accumulate_step_guarded(
 ) -> i32 {
     // SAFETY: the pointers came from an `Accumulators`, whose contract they keep.
     let sink = unsafe { Accumulators::new(force1, torque1, force2, torque2) };
+    guarded_checked_step(model, body1, body2, input, state, sink)
+}
+
+/// [`pair_step_checked`] behind [`guard`], its loads delivered to `sink` on success: the body of
+/// [`out_step_guarded`] and [`accumulate_step_guarded`].
+#[inline(always)]
+fn guarded_checked_step<K: LoadsSink>(
+    model: &Model,
+    body1: &rsl_sphere,
+    body2: &rsl_sphere,
+    input: &rsl_contact_input,
+    state: &mut rsl_contact_state,
+    sink: K,
+) -> i32 {
     guard(|| {
         sink.deliver(&pair_step_checked(model, body1, body2, input, state)?);
         Ok(())
