@@ -77,18 +77,20 @@ if [ "$run_valgrind" -eq 1 ]; then
   }
   failed=0
   portable=()
+  portable_built=0
   for t in "${tests[@]}"; do
     if vg "$out/c_tests_plain" "$t" "$out/valgrind_$t.log"; then
       continue
     fi
     if grep -q "Illegal opcode" "$out/valgrind_$t.log"; then
       # A decoder gap (header note): the same test on the portable per-contact steps.
-      if [ ! -x "$out/c_tests_portable_steps" ]; then
+      if [ "$portable_built" -eq 0 ]; then  # once per run (a binary of an earlier run is stale)
         RUSTFLAGS="${RUSTFLAGS:-} --cfg rollslide_portable_pair_steps" \
           cargo build --lib --profile "$VALGRIND_PROFILE" --target-dir target/portable-pair-steps >&2
         "$CC" "${common[@]}" "${sources[@]}" \
           "target/portable-pair-steps/$VALGRIND_PROFILE/librollslide.a" "${native_libs[@]}" \
           -o "$out/c_tests_portable_steps"
+        portable_built=1
       fi
       if vg "$out/c_tests_portable_steps" "$t" "$out/valgrind_portable_$t.log"; then
         portable+=("$t")
