@@ -8,7 +8,9 @@ use common::{full_model, scene_models, Rng};
 use rollslide::batch::Scene;
 use rollslide::decompose::Sphere;
 use rollslide::laws::checked::contact_step_pair;
-use rollslide::laws::fast_path::contact_step_pair_fast;
+use rollslide::laws::fast_path::{
+    contact_step_pair_fast, inputs_finite, scene_outputs_finite, step_pair_if_valid,
+};
 use rollslide::laws::model::{
     Model, Preset, RollingDamping, RollingForm, RollingLaw, RollingStiffness, SlidingLaw,
     Transport, TwistingLaw,
@@ -223,4 +225,144 @@ fn refused_inputs_give_the_same_error_and_leave_the_state() {
     eprintln!("{refused} refused inputs, each with the same error on both paths");
     // Most pokes are refusals; the test would be empty if none were.
     assert!(refused > 500, "only {refused} refusals");
+}
+
+/// Every value of a step's results: the loads (`force2` included), the law outputs, the energy
+/// terms and the new state.
+fn result_values(o: &StepOutput<f64>, s: &ContactState<f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = [
+        o.loads.force1,
+        o.loads.torque1,
+        o.loads.force2,
+        o.loads.torque2,
+        o.sliding_force,
+        o.rolling_moment,
+        o.twisting_torque,
+        s.sliding_spring,
+        s.rolling_spring,
+        s.twisting_offaxis,
+        s.previous_normal,
+    ]
+    .iter()
+    .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
+    .collect();
+    v.extend(o.energy.terms());
+    v.push(s.twisting_angle);
+    v
+}
+
+/// The fast step of scene code `S` and its result test, on inputs that pass the quick test:
+/// `Some((results finite by the scene's test, output, new state))`.
+fn scene_step<const S: u8>(
+    model: &Model,
+    c: &Case,
+) -> Option<(bool, StepOutput<f64>, ContactState<f64>)> {
+    let finite = inputs_finite(&c.b1, &c.b2, &c.input, &c.state);
+    let (o, next) = step_pair_if_valid::<S>(model, &c.b1, &c.b2, &c.input, &c.state, finite)?;
+    Some((scene_outputs_finite::<S>(model, &o, &next), o, next))
+}
+
+/// `scene_outputs_finite` tests only `force1`, `torque1`, `torque2` and the state values the
+/// scene's laws write. On finite inputs pushed to extremes (springs, rates, stiffnesses, time
+/// steps and forces up to 1e300, and zeros), so that many results overflow: it never says yes
+/// to a result with a non-finite value, and the state values it leaves out are the input's,
+/// bit for bit. Results it refuses go to the checked step, which names the error; so the
+/// per-contact call accepts exactly what it accepted when it tested every value.
+#[test]
+fn scene_result_test_never_passes_a_non_finite_result() {
+    let mut rng = Rng::new(23);
+    let extremes = [1e300, -1e300, 1e200, 1e160, -1e160, 1e-300, 0.0];
+    let (mut stepped, mut non_finite, mut hidden) = (0, 0, 0);
+    for (base, scene) in scene_models() {
+        for i in 0..3000 {
+            let mut model = base;
+            let mut c = case(&mut rng);
+            // Push two to four knobs to an extreme each.
+            for _ in 0..2 + rng.next_u64() % 3 {
+                let x = extremes[(rng.next_u64() % extremes.len() as u64) as usize];
+                match rng.next_u64() % 14 {
+                    0 => c.state.sliding_spring.x = x,
+                    1 => c.state.rolling_spring.y = x,
+                    2 => c.state.twisting_angle = x,
+                    3 => c.b1.angular_velocity.z = x,
+                    4 => c.b2.velocity.x = x,
+                    5 => c.input.normal_force = x,
+                    6 => c.input.dt = x.abs().max(1e-300),
+                    7 => model.sliding.stiffness = x.abs(),
+                    8 => model.sliding.damping = x.abs(),
+                    9 => model.rolling.stiffness = x.abs(),
+                    10 => model.rolling.damping = x.abs(),
+                    11 => model.twisting.stiffness = x.abs(),
+                    12 => model.twisting.damping = x.abs(),
+                    _ => c.state.previous_normal.y = x,
+                }
+            }
+            if model.validate().is_err() {
+                continue;
+            }
+            assert_eq!(Scene::classify(&model), scene);
+            let step = match scene {
+                Scene::FullExact => scene_step::<1>(&model, &c),
+                Scene::FullLammps => scene_step::<2>(&model, &c),
+                Scene::SlidingExact => scene_step::<3>(&model, &c),
+                Scene::SlidingRollingExact => scene_step::<4>(&model, &c),
+                Scene::SlidingLammps => scene_step::<5>(&model, &c),
+                Scene::RollingTwistingLammps => scene_step::<6>(&model, &c),
+                Scene::RollingTwistingExact => scene_step::<7>(&model, &c),
+                Scene::Generic => unreachable!("scene_models gives specialised scenes"),
+            };
+            let Some((passed, o, next)) = step else {
+                continue;
+            };
+            stepped += 1;
+            let all_finite = result_values(&o, &next).iter().all(|x| x.is_finite());
+            assert!(
+                all_finite || !passed,
+                "{scene:?} case {i}: passed a non-finite result {o:?} {next:?}"
+            );
+            if !all_finite {
+                non_finite += 1;
+                // A non-finite value outside the tested ones, caught through force1 or torque1.
+                let tested_finite = [o.loads.force1, o.loads.torque1, o.loads.torque2]
+                    .iter()
+                    .all(|v| v.iter().all(|x| x.is_finite()));
+                let others = [o.sliding_force, o.rolling_moment, o.twisting_torque];
+                if !tested_finite
+                    && (others.iter().any(|v| v.iter().any(|x| !x.is_finite()))
+                        || next.previous_normal.iter().any(|x| !x.is_finite()))
+                {
+                    hidden += 1;
+                }
+            }
+            // The state values the test leaves out are the input's.
+            assert_eq!(
+                next.twisting_offaxis.map(f64::to_bits),
+                c.state.twisting_offaxis.map(f64::to_bits)
+            );
+            if model.sliding.law == SlidingLaw::None {
+                assert_eq!(
+                    next.sliding_spring.map(f64::to_bits),
+                    c.state.sliding_spring.map(f64::to_bits)
+                );
+            }
+            if model.rolling.law == RollingLaw::None {
+                assert_eq!(
+                    next.rolling_spring.map(f64::to_bits),
+                    c.state.rolling_spring.map(f64::to_bits)
+                );
+            }
+            if model.twisting.law == TwistingLaw::None {
+                assert_eq!(
+                    next.twisting_angle.to_bits(),
+                    c.state.twisting_angle.to_bits()
+                );
+            }
+        }
+    }
+    eprintln!(
+        "{stepped} steps, {non_finite} with a non-finite result ({hidden} of them in a law output)"
+    );
+    // The extremes must reach the cases the argument is about.
+    assert!(non_finite > 1000, "only {non_finite} non-finite results");
+    assert!(hidden > 100, "only {hidden} non-finite law outputs");
 }

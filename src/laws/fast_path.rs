@@ -15,7 +15,7 @@ use crate::decompose::Sphere;
 use crate::error::Error;
 use crate::geometry::{pair_geometry_in_range, pair_geometry_unchecked, ContactGeometry};
 use crate::laws::checked::contact_step_pair;
-use crate::laws::model::{Model, RollingDamping, RollingLaw};
+use crate::laws::model::{Model, RollingDamping, RollingLaw, SlidingLaw, TwistingLaw};
 use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
 use crate::scalar::FiniteSums;
 
@@ -157,10 +157,60 @@ pub fn outputs_finite(model: &Model, out: &StepOutput<f64>, state: &ContactState
     sums.all_finite()
 }
 
+/// Whether the results of the fast step of a specialised scene (code `S` != 0, see
+/// [`step_pair_if_valid`]) are finite: the guarantee of [`outputs_finite`] (every load, state
+/// value and energy term is finite) from fewer values, for inputs that passed the quick test.
+///
+/// It adds up `force1`, `torque1`, `torque2`, the state values the scene's laws write, and the
+/// energy terms if the model tracks them (no specialised scene does). The rest needs no test:
+/// - state values no law of the scene writes (the springs of the laws that are off, and the
+///   off-axis twist, which only YADE's vector twisting writes) are the input's, shown finite;
+/// - the new previous normal `n`, the sliding force `F_t`, the rolling moment `M_r` and the
+///   twisting torque `M_tw` each reach the same component of `force1 = F_t - f_n n` or of
+///   `torque1 = l1 (n x F_t) + (M_r + M_tw)` through one add or subtract (and, for `n`, a
+///   product with the finite `f_n`): a non-finite one makes that component non-finite too
+///   (`inf - inf` and `0 inf` are NaN);
+/// - `force2` is `-force1`.
+///
+/// For the generic scene (`S` = 0) it is [`outputs_finite`].
+#[inline(always)]
+pub fn scene_outputs_finite<const S: u8>(
+    model: &Model,
+    out: &StepOutput<f64>,
+    state: &ContactState<f64>,
+) -> bool {
+    let scene = Scene::from_code(S);
+    let folded = fold(scene, model);
+    if scene == Scene::Generic {
+        return outputs_finite(&folded, out, state);
+    }
+    let mut sums = FiniteSums::default();
+    let l = &out.loads;
+    for v in [&l.force1, &l.torque1, &l.torque2] {
+        sums.add_vec(v);
+    }
+    if folded.sliding.law != SlidingLaw::None {
+        sums.add_vec(&state.sliding_spring);
+    }
+    if folded.rolling.law != RollingLaw::None {
+        sums.add_vec(&state.rolling_spring);
+    }
+    if folded.twisting.law != TwistingLaw::None {
+        sums.add([state.twisting_angle]);
+        if folded.preset.conventions().twist_vector {
+            sums.add_vec(&state.twisting_offaxis);
+        }
+    }
+    if folded.track_energy {
+        sums.add(out.energy.terms());
+    }
+    sums.all_finite()
+}
+
 /// The fast path for the scene code `S`, before its output test: the step's output and the new
 /// state when the inputs pass the quick test, `None` otherwise. `inputs_finite` is the
 /// caller's [`inputs_finite`] (or the same test done on its own layout of the values). The
-/// caller must then test the results ([`outputs_finite`]) and, on `None` or a non-finite
+/// caller must then test the results ([`scene_outputs_finite`]) and, on `None` or a non-finite
 /// result, run the checked step, which gives the error (or, for the few inputs the quick test
 /// is stricter about, the result). `input` must be plain (no override, no limit force, not the
 /// setup pass) and `S` the code of [`Scene::classify`] of `model`. Nothing here is passed by
@@ -192,7 +242,8 @@ pub fn step_pair_if_valid<const S: u8>(
     Some((out, next))
 }
 
-/// [`step_pair_if_valid`] with the portable tests of the inputs and the results: the step's
+/// [`step_pair_if_valid`] with the portable tests of the inputs and the results
+/// ([`inputs_finite`], [`scene_outputs_finite`]): the step's
 /// output and new state, or `None` for the checked step to take over.
 #[inline(always)]
 pub fn try_step_pair<const S: u8>(
@@ -204,8 +255,7 @@ pub fn try_step_pair<const S: u8>(
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
     let finite = inputs_finite(body1, body2, input, state);
     let (out, next) = step_pair_if_valid::<S>(model, body1, body2, input, state, finite)?;
-    let folded = fold(Scene::from_code(S), model);
-    outputs_finite(&folded, &out, &next).then_some((out, next))
+    scene_outputs_finite::<S>(model, &out, &next).then_some((out, next))
 }
 
 /// One checked step of a sphere pair, as [`contact_step_pair`] (same results, same errors,
