@@ -92,9 +92,10 @@ fn case(rng: &mut Rng) -> Case {
     }
 }
 
-fn bits(o: &StepOutput<f64>) -> Vec<u64> {
-    let mut v = Vec::new();
-    for x in [
+/// Every value of a step's output: the loads (`force2` included), the law outputs and the
+/// energy terms.
+fn output_values(o: &StepOutput<f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = [
         o.loads.force1,
         o.loads.torque1,
         o.loads.force2,
@@ -102,26 +103,37 @@ fn bits(o: &StepOutput<f64>) -> Vec<u64> {
         o.sliding_force,
         o.rolling_moment,
         o.twisting_torque,
-    ] {
-        v.extend(x.iter().map(|c| c.to_bits()));
-    }
-    v.extend(o.energy.terms().iter().map(|x| x.to_bits()));
-    v.extend(o.slipped.iter().map(|&s| s as u64));
+    ]
+    .iter()
+    .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
+    .collect();
+    v.extend(o.energy.terms());
     v
 }
 
-fn state_bits(s: &ContactState<f64>) -> Vec<u64> {
-    let mut v: Vec<u64> = [
+/// Every value of a state.
+fn state_values(s: &ContactState<f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = [
         s.sliding_spring,
         s.rolling_spring,
         s.twisting_offaxis,
         s.previous_normal,
     ]
     .iter()
-    .flat_map(|x| x.iter().map(|c| c.to_bits()).collect::<Vec<_>>())
+    .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
     .collect();
-    v.push(s.twisting_angle.to_bits());
+    v.push(s.twisting_angle);
     v
+}
+
+fn bits(o: &StepOutput<f64>) -> Vec<u64> {
+    let mut v: Vec<u64> = output_values(o).iter().map(|x| x.to_bits()).collect();
+    v.extend(o.slipped.iter().map(|&s| s as u64));
+    v
+}
+
+fn state_bits(s: &ContactState<f64>) -> Vec<u64> {
+    state_values(s).iter().map(|x| x.to_bits()).collect()
 }
 
 /// Runs both paths from the same state; asserts the same result (bits) or the same error, and
@@ -227,30 +239,6 @@ fn refused_inputs_give_the_same_error_and_leave_the_state() {
     assert!(refused > 500, "only {refused} refusals");
 }
 
-/// Every value of a step's results: the loads (`force2` included), the law outputs, the energy
-/// terms and the new state.
-fn result_values(o: &StepOutput<f64>, s: &ContactState<f64>) -> Vec<f64> {
-    let mut v: Vec<f64> = [
-        o.loads.force1,
-        o.loads.torque1,
-        o.loads.force2,
-        o.loads.torque2,
-        o.sliding_force,
-        o.rolling_moment,
-        o.twisting_torque,
-        s.sliding_spring,
-        s.rolling_spring,
-        s.twisting_offaxis,
-        s.previous_normal,
-    ]
-    .iter()
-    .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
-    .collect();
-    v.extend(o.energy.terms());
-    v.push(s.twisting_angle);
-    v
-}
-
 /// The fast step of scene code `S` and its result test, on inputs that pass the quick test:
 /// `Some((results finite by the scene's test, output, new state))`.
 fn scene_step<const S: u8>(
@@ -315,7 +303,10 @@ fn scene_result_test_never_passes_a_non_finite_result() {
                 continue;
             };
             stepped += 1;
-            let all_finite = result_values(&o, &next).iter().all(|x| x.is_finite());
+            let all_finite = output_values(&o)
+                .iter()
+                .chain(&state_values(&next))
+                .all(|x| x.is_finite());
             assert!(
                 all_finite || !passed,
                 "{scene:?} case {i}: passed a non-finite result {o:?} {next:?}"
