@@ -174,3 +174,36 @@ impl FiniteSums {
         total.is_finite()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::FiniteSums;
+
+    fn finite<const N: usize>(values: [f64; N]) -> bool {
+        let mut sums = FiniteSums::default();
+        sums.add(values);
+        sums.all_finite()
+    }
+
+    /// Yes for finite values whatever their signs (zeros of either sign, subnormals, opposite
+    /// values in one sum); no for any NaN or infinity in any of the four sums, and for finite
+    /// values whose sum overflows (the documented false "no").
+    #[test]
+    fn finite_sums_say_yes_only_for_finite_values() {
+        assert!(finite::<0>([]));
+        assert!(finite([-0.0, 0.0, 5e-324, -5e-324]));
+        assert!(finite([1e308, 2.0, 3.0, 4.0, -1e308]));
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for at in 0..6 {
+                let mut v = [1.0; 6];
+                v[at] = bad;
+                assert!(!finite(v), "{bad} at {at}");
+            }
+        }
+        assert!(!finite([f64::INFINITY, 0.0, 0.0, 0.0, f64::NEG_INFINITY]));
+        assert!(!finite([f64::MAX, 0.0, 0.0, 0.0, f64::MAX]));
+        let mut sums = FiniteSums::default();
+        sums.add_vec(&super::Vec3::new(1.0, f64::NAN, 2.0));
+        assert!(!sums.all_finite());
+    }
+}
