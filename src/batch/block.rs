@@ -857,7 +857,12 @@ pub fn step_kernel<
     access: &mut A,
     copy: X,
 ) -> BatchReport {
-    let model = scene::fold(Scene::from_code(S), model);
+    // The SIMD kernels leave the rolling stiffness rule at run time (see `fold_for_lanes`).
+    let model = if L::N == 1 {
+        scene::fold(Scene::from_code(S), model)
+    } else {
+        scene::fold_for_lanes(Scene::from_code(S), model)
+    };
     let needs_kn = needs_normal_stiffness(&model);
     let n = access.len();
     let mut report = BatchReport::default();
