@@ -3,12 +3,13 @@
 #
 # At 1.2M contacts the same driver binary, on the same data, gives batch rows that differ by
 # 10-20% between two invocations. Address-space randomisation (ASLR) is what changes between
-# them: with it off (`setarch -R`) a binary's times repeat, and moving the stack alone (by
-# padding the environment, which sits above it) moves them by that much again. This script
+# them: with it off (`setarch -R`) a binary's times mostly repeat, and moving the stack alone
+# (by padding the environment, which sits above it) moves them by that much again. This script
 # links the benchmark driver (bench/bench.c) to one build of the library, switches ASLR off,
-# runs the driver once per stack offset (PADS offsets spread over 4 KB, in 64-byte steps, the
-# alignment of the kernels' block), and prints for each row the min / median / max over the
-# offsets of its ns per contact and of its ratio to the hand-written loop of the same run.
+# runs the driver once per stack offset (PADS offsets spread evenly over 4 KB, each a multiple
+# of 64 bytes, the alignment of the kernels' block), and prints for each row the min / median
+# / max over the offsets of its ns per contact and of its ratio to the hand-written loop of
+# the same run.
 #
 #   scripts/placement_sweep.sh LIB.a [CONTACTS, 1200000] [PADS, 32] [driver options...]
 #
