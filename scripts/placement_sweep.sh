@@ -32,8 +32,12 @@ step=$(( (4096 / pads + 63) / 64 * 64 ))
 for k in $(seq 0 $((pads - 1))); do
   pad=$(( (k * step) % 4096 ))
   filler=$(head -c "$pad" /dev/zero | tr '\0' x)
-  STACK_PAD="$filler" setarch "$(uname -m)" -R "$tmp/driver" "$contacts" 3 --workload=A "$@" 2>&1 |
-    awk -v p="$pad" '/^row/ && $3 !~ /^floor/ {print p, $2, $3, $4}'
+  if ! STACK_PAD="$filler" setarch "$(uname -m)" -R "$tmp/driver" "$contacts" 3 --workload=A "$@" \
+    >"$tmp/out" 2>&1; then
+    cat "$tmp/out" >&2
+    exit 1
+  fi
+  awk -v p="$pad" '/^row/ && $3 !~ /^floor/ {print p, $2, $3, $4}' "$tmp/out"
 done >"$tmp/runs"
 python3 - "$tmp/runs" "$step" <<'PY'
 import collections, statistics, sys
@@ -41,6 +45,8 @@ ns = collections.defaultdict(dict)
 for line in open(sys.argv[1]):
     pad, group, row, t = line.split()
     ns[(group, row)][int(pad)] = float(t)
+if not ns:
+    sys.exit("placement_sweep: the driver printed no row (check the driver options)")
 def spread(v):
     return f"{min(v):7.3f} {statistics.median(v):7.3f} {max(v):7.3f}"
 print(f"{'row':58s} {'ns min / median / max':>23s}   {'/ loop min / median / max':>23s}")
