@@ -863,6 +863,7 @@ pub fn step_kernel<
     } else {
         scene::fold_for_lanes(Scene::from_code(S), model)
     };
+    const { assert!(BLOCK.is_multiple_of(L::N)) };
     let needs_kn = needs_normal_stiffness(&model);
     let n = access.len();
     let mut report = BatchReport::default();

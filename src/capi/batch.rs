@@ -59,8 +59,8 @@ pub const RSL_SIMD_SCALAR: u32 = 1;
 /// `rsl_batch_decompose`, or 8 single lanes);
 /// `RSL_ERR_INVALID_ARGUMENT` if absent.
 pub const RSL_SIMD_AVX2: u32 = 2;
-/// SIMD: AVX-512 F/VL/DQ/BW (8 double or 8 single lanes: 16 single lanes measured 1.6x
-/// slower); `RSL_ERR_INVALID_ARGUMENT` if absent.
+/// SIMD: AVX-512 F/VL/DQ/BW (8 double lanes in one zmm register; single precision steps 16
+/// lanes in one zmm, `rsl_batch_decompose` 8 in a ymm); `RSL_ERR_INVALID_ARGUMENT` if absent.
 pub const RSL_SIMD_AVX512: u32 = 3;
 
 /// Batch flag: do not use a scene-specialised kernel (take the law decisions at run time).
@@ -476,7 +476,7 @@ fn scalar_f32<const S: u8, const P: bool, A: CAccess>(
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::*;
-    use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4, F64x4x2, F64x8};
+    use crate::capi::lanes_x86::{F32x16, F32x8N, F32x8W, F64x4, F64x4x2, F64x8};
 
     /// # Safety
     /// The CPU must support AVX2 and FMA.
@@ -531,8 +531,13 @@ mod x86 {
         dt: f64,
         a: &mut A,
     ) -> BatchReport {
+        // Sixteen lanes in one zmm (the geometry in two zmm of doubles), where the double kernel
+        // has eight: against eight single lanes in a ymm (`F32x8W`) the step took 11-17% less
+        // time in cache and 5-16% less at 1.2M contacts on the Zen 5 host of
+        // docs/performance.md (A, alternating runs of scripts/ab_kernels.sh). Two such steps
+        // fill a block of 32 contacts.
         // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-        step_kernel::<F32x8W, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
+        step_kernel::<F32x16, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
     }
 
     /// # Safety

@@ -1,7 +1,8 @@
 //! SIMD lane types for the x86-64 batch kernels, each a thin wrapper of one `core::arch`
-//! register: [`F64x8`] (zmm, AVX-512 F), [`F64x4`] (ymm, AVX), [`F64x4x2`] (two ymm), and the
-//! `f32` types [`F32x8W`] and [`F32x8N`] (ymm, AVX; their geometry is computed in `F64x8` or
-//! `F64x4x2`). Every arithmetic operation is one instruction (`vaddpd`, `vsqrtpd`,
+//! register (or two): [`F64x8`] (zmm, AVX-512 F), [`F64x4`] (ymm, AVX), [`F64x4x2`] (two ymm),
+//! [`F64x8x2`] (two zmm), and the `f32` types [`F32x16`] (zmm, AVX-512 F/DQ; its geometry is
+//! computed in `F64x8x2`), [`F32x8W`] and [`F32x8N`] (ymm, AVX; their geometry is computed in
+//! `F64x8` or `F64x4x2`). Every arithmetic operation is one instruction (`vaddpd`, `vsqrtpd`,
 //! `vblendmpd`...), every comparison one `vcmppd` into a mask register (AVX-512) or a lane mask
 //! (AVX), and every row load or store one `vmovupd`.
 //!
@@ -61,7 +62,7 @@ pub(crate) struct F64x4(__m256d);
 pub(crate) struct Mask4d(__m256d);
 
 /// Eight `f32` lanes in one ymm register, whose geometry is computed in one [`F64x8`]
-/// (the AVX-512 kernels).
+/// (the AVX-512 decomposition; the AVX-512 steps run [`F32x16`]).
 #[derive(Clone, Copy)]
 pub(crate) struct F32x8W(__m256);
 
@@ -74,6 +75,15 @@ pub(crate) struct F32x8N(__m256);
 #[derive(Clone, Copy)]
 pub(crate) struct Mask8f(__m256);
 
+/// Sixteen `f32` lanes in one zmm register (AVX-512 F/DQ), whose geometry is computed in an
+/// [`F64x8x2`] (the single-precision AVX-512 step kernels).
+#[derive(Clone, Copy)]
+pub(crate) struct F32x16(__m512);
+
+/// A lane mask of [`F32x16`]: bit `k` is lane `k` (an AVX-512 mask register).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Mask16(u16);
+
 /// Runs an intrinsic. SAFETY (every use): a value of these types exists only inside the
 /// kernels of `capi::batch::x86`, run after the CPU was found to have the features the
 /// intrinsic needs (see the module documentation).
@@ -84,128 +94,183 @@ macro_rules! arch {
     };
 }
 
-impl F64x8 {
-    #[inline(always)]
-    fn splat_(x: f64) -> Self {
-        Self(arch!(_mm512_set1_pd(x)))
-    }
-    #[inline(always)]
-    fn from_array(a: [f64; 8]) -> Self {
-        Self(arch!(_mm512_loadu_pd(a.as_ptr())))
-    }
-    #[inline(always)]
-    fn to_array(self) -> [f64; 8] {
-        let mut a = [0.0; 8];
-        arch!(_mm512_storeu_pd(a.as_mut_ptr(), self.0));
-        a
-    }
-    #[inline(always)]
-    fn add_(self, o: Self) -> Self {
-        Self(arch!(_mm512_add_pd(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn sub_(self, o: Self) -> Self {
-        Self(arch!(_mm512_sub_pd(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn mul_(self, o: Self) -> Self {
-        Self(arch!(_mm512_mul_pd(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn div_(self, o: Self) -> Self {
-        Self(arch!(_mm512_div_pd(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn sqrt_(self) -> Self {
-        Self(arch!(_mm512_sqrt_pd(self.0)))
-    }
-    #[inline(always)]
-    fn sign_bits() -> Self {
-        Self::splat_(-0.0)
-    }
-    #[inline(always)]
-    fn neg_(self) -> Self {
-        Self(arch!(_mm512_castsi512_pd(_mm512_xor_si512(
-            _mm512_castpd_si512(self.0),
-            _mm512_castpd_si512(Self::sign_bits().0)
-        ))))
-    }
-    #[inline(always)]
-    fn abs_(self) -> Self {
-        Self(arch!(_mm512_castsi512_pd(_mm512_andnot_si512(
-            _mm512_castpd_si512(Self::sign_bits().0),
-            _mm512_castpd_si512(self.0)
-        ))))
-    }
-    #[inline(always)]
-    fn max_(self, o: Self) -> Self {
-        // vmaxpd returns its second operand where either is NaN or they are equal (0 and -0);
-        // f64::max returns the operand that is not NaN, and `self` for 0 and -0.
-        let m = Self(arch!(_mm512_max_pd(o.0, self.0)));
-        m.blend_(self.ne_(self), o)
-    }
-    #[inline(always)]
-    fn min_(self, o: Self) -> Self {
-        let m = Self(arch!(_mm512_min_pd(o.0, self.0)));
-        m.blend_(self.ne_(self), o)
-    }
-    /// `self` where `m` is false, `other` where it is true.
-    #[inline(always)]
-    fn blend_(self, m: Mask8, other: Self) -> Self {
-        Self(arch!(_mm512_mask_blend_pd(m.0, self.0, other.0)))
-    }
-    #[inline(always)]
-    fn gt_(self, o: Self) -> Mask8 {
-        Mask8(arch!(_mm512_cmp_pd_mask::<_CMP_GT_OQ>(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn lt_(self, o: Self) -> Mask8 {
-        Mask8(arch!(_mm512_cmp_pd_mask::<_CMP_LT_OQ>(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn ge_(self, o: Self) -> Mask8 {
-        Mask8(arch!(_mm512_cmp_pd_mask::<_CMP_GE_OQ>(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn le_(self, o: Self) -> Mask8 {
-        Mask8(arch!(_mm512_cmp_pd_mask::<_CMP_LE_OQ>(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn eq_(self, o: Self) -> Mask8 {
-        Mask8(arch!(_mm512_cmp_pd_mask::<_CMP_EQ_OQ>(self.0, o.0)))
-    }
-    #[inline(always)]
-    fn ne_(self, o: Self) -> Mask8 {
-        Mask8(arch!(_mm512_cmp_pd_mask::<_CMP_NEQ_UQ>(self.0, o.0)))
-    }
+/// The primitive operations of a 512-bit register type (`__m512d` or `__m512`, AVX-512 F) and
+/// of its mask (`$bits`, one bit per lane in a mask register).
+macro_rules! avx512_ops {
+    ($t:ident, $mask:ident, $e:ty, $n:expr, $bits:ty, $set1:ident, $loadu:ident, $storeu:ident,
+     $add:ident, $sub:ident, $mul:ident, $div:ident, $sqrt:ident, $to_int:ident,
+     $from_int:ident, $max:ident, $min:ident, $blend:ident, $cmp:ident) => {
+        impl $t {
+            #[inline(always)]
+            fn splat_(x: $e) -> Self {
+                Self(arch!($set1(x)))
+            }
+            #[inline(always)]
+            fn from_array(a: [$e; $n]) -> Self {
+                Self(arch!($loadu(a.as_ptr())))
+            }
+            #[inline(always)]
+            fn to_array(self) -> [$e; $n] {
+                let mut a = [0.0; $n];
+                arch!($storeu(a.as_mut_ptr(), self.0));
+                a
+            }
+            #[inline(always)]
+            fn add_(self, o: Self) -> Self {
+                Self(arch!($add(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn sub_(self, o: Self) -> Self {
+                Self(arch!($sub(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn mul_(self, o: Self) -> Self {
+                Self(arch!($mul(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn div_(self, o: Self) -> Self {
+                Self(arch!($div(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn sqrt_(self) -> Self {
+                Self(arch!($sqrt(self.0)))
+            }
+            #[inline(always)]
+            fn sign_bits() -> Self {
+                Self::splat_(-0.0)
+            }
+            #[inline(always)]
+            fn neg_(self) -> Self {
+                Self(arch!($from_int(_mm512_xor_si512(
+                    $to_int(self.0),
+                    $to_int(Self::sign_bits().0)
+                ))))
+            }
+            #[inline(always)]
+            fn abs_(self) -> Self {
+                Self(arch!($from_int(_mm512_andnot_si512(
+                    $to_int(Self::sign_bits().0),
+                    $to_int(self.0)
+                ))))
+            }
+            #[inline(always)]
+            fn max_(self, o: Self) -> Self {
+                // vmaxp* returns its second operand where either is NaN or they are equal (0
+                // and -0); max returns the operand that is not NaN, and `self` for 0 and -0.
+                let m = Self(arch!($max(o.0, self.0)));
+                m.blend_(self.ne_(self), o)
+            }
+            #[inline(always)]
+            fn min_(self, o: Self) -> Self {
+                let m = Self(arch!($min(o.0, self.0)));
+                m.blend_(self.ne_(self), o)
+            }
+            /// `self` where `m` is false, `other` where it is true.
+            #[inline(always)]
+            fn blend_(self, m: $mask, other: Self) -> Self {
+                Self(arch!($blend(m.0, self.0, other.0)))
+            }
+            #[inline(always)]
+            fn gt_(self, o: Self) -> $mask {
+                $mask(arch!($cmp::<_CMP_GT_OQ>(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn lt_(self, o: Self) -> $mask {
+                $mask(arch!($cmp::<_CMP_LT_OQ>(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn ge_(self, o: Self) -> $mask {
+                $mask(arch!($cmp::<_CMP_GE_OQ>(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn le_(self, o: Self) -> $mask {
+                $mask(arch!($cmp::<_CMP_LE_OQ>(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn eq_(self, o: Self) -> $mask {
+                $mask(arch!($cmp::<_CMP_EQ_OQ>(self.0, o.0)))
+            }
+            #[inline(always)]
+            fn ne_(self, o: Self) -> $mask {
+                $mask(arch!($cmp::<_CMP_NEQ_UQ>(self.0, o.0)))
+            }
+        }
+
+        impl $mask {
+            #[inline(always)]
+            fn splat_(b: bool) -> Self {
+                $mask(if b { <$bits>::MAX } else { 0 })
+            }
+            #[inline(always)]
+            fn bits_(self) -> u64 {
+                self.0 as u64
+            }
+            #[inline(always)]
+            fn and_(self, o: Self) -> Self {
+                $mask(self.0 & o.0)
+            }
+            #[inline(always)]
+            fn or_(self, o: Self) -> Self {
+                $mask(self.0 | o.0)
+            }
+            #[inline(always)]
+            fn xor_(self, o: Self) -> Self {
+                $mask(self.0 ^ o.0)
+            }
+            #[inline(always)]
+            fn not_(self) -> Self {
+                $mask(!self.0)
+            }
+            #[inline(always)]
+            fn from_bits(bits: u64) -> Self {
+                $mask(bits as $bits)
+            }
+        }
+    };
 }
 
-impl Mask8 {
-    #[inline(always)]
-    fn splat_(b: bool) -> Self {
-        Mask8(if b { 0xff } else { 0 })
-    }
-    #[inline(always)]
-    fn bits_(self) -> u64 {
-        self.0 as u64
-    }
-    #[inline(always)]
-    fn and_(self, o: Self) -> Self {
-        Mask8(self.0 & o.0)
-    }
-    #[inline(always)]
-    fn or_(self, o: Self) -> Self {
-        Mask8(self.0 | o.0)
-    }
-    #[inline(always)]
-    fn xor_(self, o: Self) -> Self {
-        Mask8(self.0 ^ o.0)
-    }
-    #[inline(always)]
-    fn not_(self) -> Self {
-        Mask8(!self.0)
-    }
-}
+avx512_ops!(
+    F64x8,
+    Mask8,
+    f64,
+    8,
+    u8,
+    _mm512_set1_pd,
+    _mm512_loadu_pd,
+    _mm512_storeu_pd,
+    _mm512_add_pd,
+    _mm512_sub_pd,
+    _mm512_mul_pd,
+    _mm512_div_pd,
+    _mm512_sqrt_pd,
+    _mm512_castpd_si512,
+    _mm512_castsi512_pd,
+    _mm512_max_pd,
+    _mm512_min_pd,
+    _mm512_mask_blend_pd,
+    _mm512_cmp_pd_mask
+);
+avx512_ops!(
+    F32x16,
+    Mask16,
+    f32,
+    16,
+    u16,
+    _mm512_set1_ps,
+    _mm512_loadu_ps,
+    _mm512_storeu_ps,
+    _mm512_add_ps,
+    _mm512_sub_ps,
+    _mm512_mul_ps,
+    _mm512_div_ps,
+    _mm512_sqrt_ps,
+    _mm512_castps_si512,
+    _mm512_castsi512_ps,
+    _mm512_max_ps,
+    _mm512_min_ps,
+    _mm512_mask_blend_ps,
+    _mm512_cmp_ps_mask
+);
 
 /// The primitive operations of a 256-bit register type (`__m256d` or `__m256`): the
 /// intrinsics of `avx_body` spelled out for the suffix `pd` or `ps`.
@@ -597,6 +662,17 @@ macro_rules! pair_ops {
 
 pair_ops!(F64x4x2, F64x4, Mask4dx2, Mask4d, f64, 4);
 
+/// Sixteen `f64` lanes in two zmm registers (AVX-512 F): lanes 0-7, then 8-15. The geometry
+/// type of [`F32x16`].
+#[derive(Clone, Copy)]
+pub(crate) struct F64x8x2([F64x8; 2]);
+
+/// A lane mask of [`F64x8x2`]: lanes 0-7, then 8-15.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Mask8x2([Mask8; 2]);
+
+pair_ops!(F64x8x2, F64x8, Mask8x2, Mask8, f64, 8);
+
 // ----------------------------------------------------------------------------------------------
 // The traits the generic physics needs (simba's SimdRealField and what it implies), written
 // once over the primitive operations above.
@@ -736,12 +812,6 @@ macro_rules! mask_traits {
     };
 }
 
-impl Mask8 {
-    #[inline(always)]
-    fn from_bits(bits: u64) -> Self {
-        Mask8(bits as u8)
-    }
-}
 impl Mask4d {
     #[inline(always)]
     fn from_bits(bits: u64) -> Self {
@@ -773,6 +843,8 @@ mask_traits!(Mask8, 8);
 mask_traits!(Mask4d, 4);
 mask_traits!(Mask8f, 8);
 mask_traits!(Mask4dx2, 8);
+mask_traits!(Mask16, 16);
+mask_traits!(Mask8x2, 16);
 
 /// Every trait of simba's `SimdRealField` for the lane type `$t` of `$n` lanes of `$e`, with
 /// mask `$mask`. The operations the physics uses map to the primitive operations; the others
@@ -1343,6 +1415,8 @@ real_traits!(F64x4, Mask4d, f64, 4);
 real_traits!(F64x4x2, Mask4dx2, f64, 8);
 real_traits!(F32x8W, Mask8f, f32, 8);
 real_traits!(F32x8N, Mask8f, f32, 8);
+real_traits!(F32x16, Mask16, f32, 16);
+real_traits!(F64x8x2, Mask8x2, f64, 16);
 
 // ----------------------------------------------------------------------------------------------
 // What the batch kernels need: lane counts, the geometry type, row loads and stores.
@@ -1514,6 +1588,79 @@ impl Lanes for F32x8N {
     }
 }
 
+impl Lanes for F64x8x2 {
+    const N: usize = 16;
+    type Geo = F64x8x2;
+    #[inline(always)]
+    fn from_fn<F: FnMut(usize) -> f64>(mut f: F) -> Self {
+        let lo = F64x8::from_fn(&mut f);
+        let hi = F64x8::from_fn(|k| f(8 + k));
+        Self([lo, hi])
+    }
+    #[inline(always)]
+    fn lane(&self, k: usize) -> f64 {
+        self.to_array()[k]
+    }
+    #[inline(always)]
+    fn from_geo(lo: Self, _hi: Self) -> Self {
+        lo
+    }
+    #[inline(always)]
+    fn load(src: &[f64]) -> Self {
+        Self([F64x8::load(src), F64x8::load(&src[8..])])
+    }
+    #[inline(always)]
+    fn store(&self, dst: &mut [f64]) {
+        self.0[0].store(dst);
+        self.0[1].store(&mut dst[8..]);
+    }
+    type Arr<X: Copy> = [X; 16];
+    #[inline(always)]
+    fn arr<X: Copy>(x: X) -> [X; 16] {
+        [x; 16]
+    }
+}
+
+impl Lanes for F32x16 {
+    const N: usize = 16;
+    type Geo = F64x8x2;
+    #[inline(always)]
+    fn from_fn<F: FnMut(usize) -> f64>(f: F) -> Self {
+        let g = F64x8x2::from_fn(f);
+        Self::from_geo(g, g)
+    }
+    #[inline(always)]
+    fn lane(&self, k: usize) -> f64 {
+        self.to_array()[k] as f64
+    }
+    #[inline(always)]
+    fn from_geo(lo: F64x8x2, _hi: F64x8x2) -> Self {
+        // vcvtpd2ps rounds to nearest (the default MXCSR mode), as `as f32` does.
+        let [a, b] = lo.0;
+        Self(arch!(_mm512_insertf32x8::<1>(
+            _mm512_castps256_ps512(_mm512_cvtpd_ps(a.0)),
+            _mm512_cvtpd_ps(b.0)
+        )))
+    }
+    #[inline(always)]
+    fn load(src: &[f64]) -> Self {
+        let g = F64x8x2::load(src);
+        Self::from_geo(g, g)
+    }
+    #[inline(always)]
+    fn store(&self, dst: &mut [f64]) {
+        // Widening to f64 is exact.
+        let lo = F64x8(arch!(_mm512_cvtps_pd(_mm512_castps512_ps256(self.0))));
+        let hi = F64x8(arch!(_mm512_cvtps_pd(_mm512_extractf32x8_ps::<1>(self.0))));
+        F64x8x2([lo, hi]).store(dst);
+    }
+    type Arr<X: Copy> = [X; 16];
+    #[inline(always)]
+    fn arr<X: Copy>(x: X) -> [X; 16] {
+        [x; 16]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     //! Each lane type against the scalar operations, bit for bit, on values that probe the
@@ -1648,11 +1795,13 @@ mod tests {
 
     #[test]
     fn avx512_lane_type_matches_scalar_operations() {
-        if !is_x86_feature_detected!("avx512f") {
-            eprintln!("skipped: this CPU has no AVX-512 F");
+        if !(is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512dq")) {
+            eprintln!("skipped: this CPU has no AVX-512 F/DQ");
             return;
         }
         check_type!(F64x8, f64);
+        check_type!(F64x8x2, f64);
+        check_type!(F32x16, f32);
     }
 
     #[test]
@@ -1670,7 +1819,17 @@ mod tests {
                 assert!(same(narrow.lane(k), src[k] as f32 as f64));
                 assert!(same(back[k], src[k] as f32 as f64));
             }
-            if is_x86_feature_detected!("avx512f") {
+            if is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512dq") {
+                let src16: Vec<f64> = (0..16)
+                    .map(|k| src[k % 8] * if k < 8 { 1.0 } else { -3.0 })
+                    .collect();
+                let sixteen = F32x16::load(&src16);
+                let mut back = [0.0; 16];
+                sixteen.store(&mut back);
+                for k in 0..16 {
+                    assert!(same(sixteen.lane(k), src16[k] as f32 as f64));
+                    assert!(same(back[k], src16[k] as f32 as f64));
+                }
                 let wide = F32x8W::load(&src);
                 let mut back = [0.0; 8];
                 wide.store(&mut back);
