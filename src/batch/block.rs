@@ -279,7 +279,9 @@ fn group<const Q: usize>(rows: &[Row; Q], g: usize) -> [&GroupRow; Q] {
 
 /// Copies contacts `c0..c0 + count` into the block's rows (slots `0..count`), a group of
 /// [`GROUP`] at a time, and pads the slots of the last group with the last contact (their
-/// results are dropped). Touches the contacts `TOUCH_AHEAD` further on when `PREFETCH`
+/// results are dropped). With 16 lanes a step can also cover slots past the last group, which
+/// keep an earlier block's values (or the initial ones): their lanes are stepped and dropped
+/// in the same way. Touches the contacts `TOUCH_AHEAD` further on when `PREFETCH`
 /// ([`Gather::prefetching`](super::Gather::prefetching)).
 #[inline(always)]
 fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
