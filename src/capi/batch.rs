@@ -532,7 +532,7 @@ mod x86 {
         a: &mut A,
     ) -> BatchReport {
         // Sixteen lanes in one zmm (the geometry in two zmm of doubles), where the double kernel
-        // has eight: against eight single lanes in a ymm (`F32x8W`) the step took 11-17% less
+        // has eight: against eight single lanes in a ymm (`F32x8W`) the step took 10-17% less
         // time in cache and 5-16% less at 1.2M contacts on the Zen 5 host of
         // docs/performance.md (A, alternating runs of scripts/ab_kernels.sh). Two such steps
         // fill a block of 32 contacts.
