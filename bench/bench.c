@@ -65,13 +65,16 @@
  *   floor_prefetch  the same loop with software prefetches of the scattered lines 48 contacts
  *                   ahead, as the library's batch kernel does (helps workload B)
  *   floor           the faster of the two (the floor the ratios use)
- *   baseline_c      hand-written C, inline, one loop, LAMMPS style (n = d * (1/r), full-radii
+ *   baseline_c_plain  hand-written C, inline, one loop, LAMMPS style (n = d * (1/r), full-radii
  *                   sliding velocity, project-rescale transport with LAMMPS' 1e-10 threshold,
  *                   LAMMPS' clip), the set's physics; reads and writes the library's state
  *                   struct so its states can be compared. Built with -std=c11, so GCC does not
  *                   contract a*b+c into FMAs (nor does rustc): the f64 library rows usually
  *                   agree with it bit for bit (diff 0); -ffp-contract=fast changed the
  *                   baseline's time by less than the run-to-run scatter when tried.
+ *   baseline_c_prefetch  the same loop with the library's prefetches, 48 contacts ahead (as
+ *                   floor_prefetch), so that no baseline waits on memory the library prefetches
+ *   baseline_c      the faster of the two: the baseline every ratio uses
  *   percontact_acc_c  rsl_contact_step_accumulate per contact (the library adds the loads)
  *   percontact_c    rsl_contact_step per contact + the host adds the loads
  *   percontact_fill_c  rsl_contact_step_accumulate per contact from a host whose particles
@@ -91,7 +94,7 @@
  *                   loads are added to the accumulators after the call (untimed) for the diff
  *   decompose_<p>_<l>  rsl_batch_decompose (particle-major) at the best level: the kinematic
  *                   decomposition only, no laws, no state (group full; not the baseline's work)
- *   <row>[noslip]   baseline_c, percontact_acc_c and batch_<p>_<auto level> again on the
+ *   <row>[noslip]   the baselines, percontact_acc_c and batch_<p>_<auto level> again on the
  *                   no-slip histories (the same springs, those beyond a limit scaled below it:
  *                   no clip taken, the scalar baselines' best case); compared with
  *                   baseline_c[noslip]
@@ -507,155 +510,200 @@ static inline double lammps_twist(double *theta, double wtw, double fn, uint32_t
     return mt;
 }
 
-/* full: linear history sliding + rolling sds + twisting sds */
-static void baseline_full(scene *s) {
-    const rsl_sphere *P = s->p;
-    for (size_t c = 0; c < s->nc; c++) {
-        uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
-        const rsl_sphere *a = &P[i], *b = &P[j];
-        double d3[3] = {b->position.x - a->position.x, b->position.y - a->position.y,
-                        b->position.z - a->position.z};
-        double r = sqrt(DOT(d3, d3)), rinv = 1.0 / r;
-        double n[3] = {d3[0] * rinv, d3[1] * rinv, d3[2] * rinv};
-        double R1 = a->radius, R2 = b->radius;
-        double l1 = (r + R1 - R2) * 0.5, l2 = r - l1;
-        double reff = R1 * R2 / (R1 + R2);
-        double fn = s->fn[c];
-        double w1[3] = {a->angular_velocity.x, a->angular_velocity.y, a->angular_velocity.z};
-        double w2[3] = {b->angular_velocity.x, b->angular_velocity.y, b->angular_velocity.z};
-        double dv[3] = {b->velocity.x - a->velocity.x, b->velocity.y - a->velocity.y,
-                        b->velocity.z - a->velocity.z};
-        double dvn = DOT(dv, n);
-        /* LAMMPS sliding velocity with full radii: -(dv)_t + (R1 w1 + R2 w2) x n */
-        double arm[3] = {R1 * w1[0] + R2 * w2[0], R1 * w1[1] + R2 * w2[1], R1 * w1[2] + R2 * w2[2]};
-        double vs[3];
-        CROSS(vs, arm, n);
-        for (int k = 0; k < 3; k++) vs[k] -= dv[k] - dvn * n[k];
-        double dw[3] = {w1[0] - w2[0], w1[1] - w2[1], w1[2] - w2[2]};
-        double vr[3];
-        CROSS(vr, dw, n);
-        for (int k = 0; k < 3; k++) vr[k] *= reff;
-        double wtw = DOT(dw, n);
+/* The lines of contact e that the library's batch kernel prefetches (src/capi/batch.rs: PREFETCHT1
+ * of each scattered slot's first and last word and of the state), AHEAD contacts before it
+ * needs them. The prefetching baselines and floor call it for c + AHEAD. */
+#define AHEAD 48
+/* always_inline: without it GCC 12 emitted none of these prefetches (it seems to take a function
+ * whose only effect is a prefetch for one without effects, and drop its calls). */
+static inline __attribute__((always_inline)) void prefetch_contact(const scene *s, size_t e) {
+    for (int k = 0; k < 2; k++) {
+        uint32_t i = s->pairs[2 * e + k];
+        __builtin_prefetch(&s->p[i].position.x, 0, 2);
+        __builtin_prefetch(&s->p[i].radius, 0, 2);
+        __builtin_prefetch(&s->f[i].x, 1, 2);
+        __builtin_prefetch(&s->f[i].z, 1, 2);
+        __builtin_prefetch(&s->t[i].x, 1, 2);
+        __builtin_prefetch(&s->t[i].z, 1, 2);
+    }
+    __builtin_prefetch(&s->st[e].sliding_spring.x, 1, 2);
+    __builtin_prefetch(&s->st[e].twisting_offaxis.x, 1, 2);
+    __builtin_prefetch(&s->st[e].slip_flags, 1, 2);
+}
 
-        rsl_contact_state *st = &s->st[c];
-        double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
-        double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
-        double th = st->twisting_angle;
-        double ft[3], fr[3];
-        uint32_t s1, s2, s3;
-        lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
-        lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
-        double mt = lammps_twist(&th, wtw, fn, &s3);
-        double nxft[3], nxfr[3];
-        CROSS(nxft, n, ft);
-        CROSS(nxfr, n, fr);
-        double couple[3];
-        for (int k = 0; k < 3; k++) couple[k] = reff * nxfr[k] + mt * n[k];
-        double f1[3] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2]};
-        s->f[i].x += f1[0], s->f[i].y += f1[1], s->f[i].z += f1[2];
-        s->f[j].x -= f1[0], s->f[j].y -= f1[1], s->f[j].z -= f1[2];
-        s->t[i].x += l1 * nxft[0] + couple[0];
-        s->t[i].y += l1 * nxft[1] + couple[1];
-        s->t[i].z += l1 * nxft[2] + couple[2];
-        s->t[j].x += l2 * nxft[0] - couple[0];
-        s->t[j].y += l2 * nxft[1] - couple[1];
-        s->t[j].z += l2 * nxft[2] - couple[2];
-        st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
-        st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
-        st->twisting_angle = th;
-        st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
-        st->slip_flags = s1 | s2 << 1 | s3 << 2;
+/* full: linear history sliding + rolling sds + twisting sds */
+static inline __attribute__((always_inline)) void full_body(scene *s, size_t c) {
+    const rsl_sphere *P = s->p;
+    uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
+    const rsl_sphere *a = &P[i], *b = &P[j];
+    double d3[3] = {b->position.x - a->position.x, b->position.y - a->position.y,
+                    b->position.z - a->position.z};
+    double r = sqrt(DOT(d3, d3)), rinv = 1.0 / r;
+    double n[3] = {d3[0] * rinv, d3[1] * rinv, d3[2] * rinv};
+    double R1 = a->radius, R2 = b->radius;
+    double l1 = (r + R1 - R2) * 0.5, l2 = r - l1;
+    double reff = R1 * R2 / (R1 + R2);
+    double fn = s->fn[c];
+    double w1[3] = {a->angular_velocity.x, a->angular_velocity.y, a->angular_velocity.z};
+    double w2[3] = {b->angular_velocity.x, b->angular_velocity.y, b->angular_velocity.z};
+    double dv[3] = {b->velocity.x - a->velocity.x, b->velocity.y - a->velocity.y,
+                    b->velocity.z - a->velocity.z};
+    double dvn = DOT(dv, n);
+    /* LAMMPS sliding velocity with full radii: -(dv)_t + (R1 w1 + R2 w2) x n */
+    double arm[3] = {R1 * w1[0] + R2 * w2[0], R1 * w1[1] + R2 * w2[1], R1 * w1[2] + R2 * w2[2]};
+    double vs[3];
+    CROSS(vs, arm, n);
+    for (int k = 0; k < 3; k++) vs[k] -= dv[k] - dvn * n[k];
+    double dw[3] = {w1[0] - w2[0], w1[1] - w2[1], w1[2] - w2[2]};
+    double vr[3];
+    CROSS(vr, dw, n);
+    for (int k = 0; k < 3; k++) vr[k] *= reff;
+    double wtw = DOT(dw, n);
+
+    rsl_contact_state *st = &s->st[c];
+    double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
+    double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
+    double th = st->twisting_angle;
+    double ft[3], fr[3];
+    uint32_t s1, s2, s3;
+    lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
+    lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
+    double mt = lammps_twist(&th, wtw, fn, &s3);
+    double nxft[3], nxfr[3];
+    CROSS(nxft, n, ft);
+    CROSS(nxfr, n, fr);
+    double couple[3];
+    for (int k = 0; k < 3; k++) couple[k] = reff * nxfr[k] + mt * n[k];
+    double f1[3] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2]};
+    s->f[i].x += f1[0], s->f[i].y += f1[1], s->f[i].z += f1[2];
+    s->f[j].x -= f1[0], s->f[j].y -= f1[1], s->f[j].z -= f1[2];
+    s->t[i].x += l1 * nxft[0] + couple[0];
+    s->t[i].y += l1 * nxft[1] + couple[1];
+    s->t[i].z += l1 * nxft[2] + couple[2];
+    s->t[j].x += l2 * nxft[0] - couple[0];
+    s->t[j].y += l2 * nxft[1] - couple[1];
+    s->t[j].z += l2 * nxft[2] - couple[2];
+    st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
+    st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
+    st->twisting_angle = th;
+    st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
+    st->slip_flags = s1 | s2 << 1 | s3 << 2;
+}
+static void baseline_full(scene *s) {
+    for (size_t c = 0; c < s->nc; c++) full_body(s, c);
+}
+static void baseline_full_prefetch(scene *s) {
+    size_t nc = s->nc;
+    for (size_t c = 0; c < nc; c++) {
+        if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
+        full_body(s, c);
     }
 }
 
 /* rolltwist: rolling sds + twisting sds, no sliding law (the velocities are not read; the
  * sliding spring is not touched). */
-static void baseline_rolltwist(scene *s) {
+static inline __attribute__((always_inline)) void rolltwist_body(scene *s, size_t c) {
     const rsl_sphere *P = s->p;
-    for (size_t c = 0; c < s->nc; c++) {
-        uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
-        const rsl_sphere *a = &P[i], *b = &P[j];
-        double d3[3] = {b->position.x - a->position.x, b->position.y - a->position.y,
-                        b->position.z - a->position.z};
-        double r = sqrt(DOT(d3, d3)), rinv = 1.0 / r;
-        double n[3] = {d3[0] * rinv, d3[1] * rinv, d3[2] * rinv};
-        double R1 = a->radius, R2 = b->radius;
-        double reff = R1 * R2 / (R1 + R2);
-        double fn = s->fn[c];
-        double dw[3] = {a->angular_velocity.x - b->angular_velocity.x,
-                        a->angular_velocity.y - b->angular_velocity.y,
-                        a->angular_velocity.z - b->angular_velocity.z};
-        double vr[3];
-        CROSS(vr, dw, n);
-        for (int k = 0; k < 3; k++) vr[k] *= reff;
-        double wtw = DOT(dw, n);
+    uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
+    const rsl_sphere *a = &P[i], *b = &P[j];
+    double d3[3] = {b->position.x - a->position.x, b->position.y - a->position.y,
+                    b->position.z - a->position.z};
+    double r = sqrt(DOT(d3, d3)), rinv = 1.0 / r;
+    double n[3] = {d3[0] * rinv, d3[1] * rinv, d3[2] * rinv};
+    double R1 = a->radius, R2 = b->radius;
+    double reff = R1 * R2 / (R1 + R2);
+    double fn = s->fn[c];
+    double dw[3] = {a->angular_velocity.x - b->angular_velocity.x,
+                    a->angular_velocity.y - b->angular_velocity.y,
+                    a->angular_velocity.z - b->angular_velocity.z};
+    double vr[3];
+    CROSS(vr, dw, n);
+    for (int k = 0; k < 3; k++) vr[k] *= reff;
+    double wtw = DOT(dw, n);
 
-        rsl_contact_state *st = &s->st[c];
-        double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
-        double th = st->twisting_angle;
-        double fr[3];
-        uint32_t s2, s3;
-        lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
-        double mt = lammps_twist(&th, wtw, fn, &s3);
-        double nxfr[3];
-        CROSS(nxfr, n, fr);
-        double couple[3];
-        for (int k = 0; k < 3; k++) couple[k] = reff * nxfr[k] + mt * n[k];
-        double f1[3] = {-fn * n[0], -fn * n[1], -fn * n[2]};
-        s->f[i].x += f1[0], s->f[i].y += f1[1], s->f[i].z += f1[2];
-        s->f[j].x -= f1[0], s->f[j].y -= f1[1], s->f[j].z -= f1[2];
-        s->t[i].x += couple[0], s->t[i].y += couple[1], s->t[i].z += couple[2];
-        s->t[j].x -= couple[0], s->t[j].y -= couple[1], s->t[j].z -= couple[2];
-        st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
-        st->twisting_angle = th;
-        st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
-        st->slip_flags = s2 << 1 | s3 << 2;
+    rsl_contact_state *st = &s->st[c];
+    double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
+    double th = st->twisting_angle;
+    double fr[3];
+    uint32_t s2, s3;
+    lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
+    double mt = lammps_twist(&th, wtw, fn, &s3);
+    double nxfr[3];
+    CROSS(nxfr, n, fr);
+    double couple[3];
+    for (int k = 0; k < 3; k++) couple[k] = reff * nxfr[k] + mt * n[k];
+    double f1[3] = {-fn * n[0], -fn * n[1], -fn * n[2]};
+    s->f[i].x += f1[0], s->f[i].y += f1[1], s->f[i].z += f1[2];
+    s->f[j].x -= f1[0], s->f[j].y -= f1[1], s->f[j].z -= f1[2];
+    s->t[i].x += couple[0], s->t[i].y += couple[1], s->t[i].z += couple[2];
+    s->t[j].x -= couple[0], s->t[j].y -= couple[1], s->t[j].z -= couple[2];
+    st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
+    st->twisting_angle = th;
+    st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
+    st->slip_flags = s2 << 1 | s3 << 2;
+}
+static void baseline_rolltwist(scene *s) {
+    for (size_t c = 0; c < s->nc; c++) rolltwist_body(s, c);
+}
+static void baseline_rolltwist_prefetch(scene *s) {
+    size_t nc = s->nc;
+    for (size_t c = 0; c < nc; c++) {
+        if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
+        rolltwist_body(s, c);
     }
 }
 
 /* sliding: linear history sliding only (the rolling spring and twisting angle not touched). */
-static void baseline_sliding(scene *s) {
+static inline __attribute__((always_inline)) void sliding_body(scene *s, size_t c) {
     const rsl_sphere *P = s->p;
-    for (size_t c = 0; c < s->nc; c++) {
-        uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
-        const rsl_sphere *a = &P[i], *b = &P[j];
-        double d3[3] = {b->position.x - a->position.x, b->position.y - a->position.y,
-                        b->position.z - a->position.z};
-        double r = sqrt(DOT(d3, d3)), rinv = 1.0 / r;
-        double n[3] = {d3[0] * rinv, d3[1] * rinv, d3[2] * rinv};
-        double R1 = a->radius, R2 = b->radius;
-        double l1 = (r + R1 - R2) * 0.5, l2 = r - l1;
-        double fn = s->fn[c];
-        double dv[3] = {b->velocity.x - a->velocity.x, b->velocity.y - a->velocity.y,
-                        b->velocity.z - a->velocity.z};
-        double dvn = DOT(dv, n);
-        double arm[3] = {R1 * a->angular_velocity.x + R2 * b->angular_velocity.x,
-                         R1 * a->angular_velocity.y + R2 * b->angular_velocity.y,
-                         R1 * a->angular_velocity.z + R2 * b->angular_velocity.z};
-        double vs[3];
-        CROSS(vs, arm, n);
-        for (int k = 0; k < 3; k++) vs[k] -= dv[k] - dvn * n[k];
+    uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
+    const rsl_sphere *a = &P[i], *b = &P[j];
+    double d3[3] = {b->position.x - a->position.x, b->position.y - a->position.y,
+                    b->position.z - a->position.z};
+    double r = sqrt(DOT(d3, d3)), rinv = 1.0 / r;
+    double n[3] = {d3[0] * rinv, d3[1] * rinv, d3[2] * rinv};
+    double R1 = a->radius, R2 = b->radius;
+    double l1 = (r + R1 - R2) * 0.5, l2 = r - l1;
+    double fn = s->fn[c];
+    double dv[3] = {b->velocity.x - a->velocity.x, b->velocity.y - a->velocity.y,
+                    b->velocity.z - a->velocity.z};
+    double dvn = DOT(dv, n);
+    double arm[3] = {R1 * a->angular_velocity.x + R2 * b->angular_velocity.x,
+                     R1 * a->angular_velocity.y + R2 * b->angular_velocity.y,
+                     R1 * a->angular_velocity.z + R2 * b->angular_velocity.z};
+    double vs[3];
+    CROSS(vs, arm, n);
+    for (int k = 0; k < 3; k++) vs[k] -= dv[k] - dvn * n[k];
 
-        rsl_contact_state *st = &s->st[c];
-        double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
-        double ft[3];
-        uint32_t s1;
-        lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
-        double nxft[3];
-        CROSS(nxft, n, ft);
-        double f1[3] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2]};
-        s->f[i].x += f1[0], s->f[i].y += f1[1], s->f[i].z += f1[2];
-        s->f[j].x -= f1[0], s->f[j].y -= f1[1], s->f[j].z -= f1[2];
-        s->t[i].x += l1 * nxft[0], s->t[i].y += l1 * nxft[1], s->t[i].z += l1 * nxft[2];
-        s->t[j].x += l2 * nxft[0], s->t[j].y += l2 * nxft[1], s->t[j].z += l2 * nxft[2];
-        st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
-        st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
-        st->slip_flags = s1;
+    rsl_contact_state *st = &s->st[c];
+    double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
+    double ft[3];
+    uint32_t s1;
+    lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
+    double nxft[3];
+    CROSS(nxft, n, ft);
+    double f1[3] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2]};
+    s->f[i].x += f1[0], s->f[i].y += f1[1], s->f[i].z += f1[2];
+    s->f[j].x -= f1[0], s->f[j].y -= f1[1], s->f[j].z -= f1[2];
+    s->t[i].x += l1 * nxft[0], s->t[i].y += l1 * nxft[1], s->t[i].z += l1 * nxft[2];
+    s->t[j].x += l2 * nxft[0], s->t[j].y += l2 * nxft[1], s->t[j].z += l2 * nxft[2];
+    st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
+    st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
+    st->slip_flags = s1;
+}
+static void baseline_sliding(scene *s) {
+    for (size_t c = 0; c < s->nc; c++) sliding_body(s, c);
+}
+static void baseline_sliding_prefetch(scene *s) {
+    size_t nc = s->nc;
+    for (size_t c = 0; c < nc; c++) {
+        if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
+        sliding_body(s, c);
     }
 }
 
 /* ---- memory floor: same bytes, same access pattern, no physics ---- */
-static inline void floor_body(scene *s, size_t c) {
+static inline __attribute__((always_inline)) void floor_body(scene *s, size_t c) {
     const rsl_sphere *P = s->p;
     uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
     const double *a = &P[i].position.x, *b = &P[j].position.x;
@@ -676,27 +724,11 @@ static void floor_plain(scene *s) {
     for (size_t c = 0; c < s->nc; c++) floor_body(s, c);
 }
 
-/* As the library's batch kernel (src/capi/batch.rs: PREFETCHT1 of each scattered slot's first
- * and last word and of the state, 48 contacts ahead). */
-#define AHEAD 48
+/* With the library's prefetches (prefetch_contact). */
 static void floor_prefetch(scene *s) {
     size_t nc = s->nc;
     for (size_t c = 0; c < nc; c++) {
-        if (c + AHEAD < nc) {
-            size_t e = c + AHEAD;
-            for (int k = 0; k < 2; k++) {
-                uint32_t i = s->pairs[2 * e + k];
-                __builtin_prefetch(&s->p[i].position.x, 0, 2);
-                __builtin_prefetch(&s->p[i].radius, 0, 2);
-                __builtin_prefetch(&s->f[i].x, 1, 2);
-                __builtin_prefetch(&s->f[i].z, 1, 2);
-                __builtin_prefetch(&s->t[i].x, 1, 2);
-                __builtin_prefetch(&s->t[i].z, 1, 2);
-            }
-            __builtin_prefetch(&s->st[e].sliding_spring.x, 1, 2);
-            __builtin_prefetch(&s->st[e].twisting_offaxis.x, 1, 2);
-            __builtin_prefetch(&s->st[e].slip_flags, 1, 2);
-        }
+        if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
         floor_body(s, c);
     }
 }
@@ -957,15 +989,24 @@ static void row(const char *group, const char *name, double ns, int compare, con
     fflush(stdout);
 }
 
-/* Times a baseline, keeps its results as the reference of the rows that follow, prints its row
- * and the fraction of contacts at each limit. */
-static void run_baseline(scene *s, const char *group, const char *name, void (*fn)(scene *),
-                         int reps) {
-    double t = timeit(s, fn, reps);
+/* Times a set's baseline with and without prefetches, keeps the results of the first as the
+ * reference of the rows that follow (the second is compared with them), prints a row for each
+ * and a row "baseline_c<suffix>" with the faster time (the one the ratios use), and the fraction
+ * of contacts at each limit. */
+static void run_baseline(scene *s, const char *group, const char *suffix, void (*plain)(scene *),
+                         void (*prefetch)(scene *), int reps) {
+    char name[64];
+    double tp = timeit(s, plain, reps);
     memcpy(REF_F, s->f, s->np * sizeof *REF_F);
     memcpy(REF_T, s->t, s->np * sizeof *REF_T);
     memcpy(REF_ST, s->st, s->nc * sizeof *REF_ST);
-    row(group, name, t, 1, s);
+    snprintf(name, sizeof name, "baseline_c_plain%s", suffix);
+    row(group, name, tp, 1, s);
+    double tf = timeit(s, prefetch, reps);
+    snprintf(name, sizeof name, "baseline_c_prefetch%s", suffix);
+    row(group, name, tf, 1, s);
+    snprintf(name, sizeof name, "baseline_c%s", suffix);
+    row(group, name, fmin(tp, tf), 1, s);
     size_t slips[3] = {0, 0, 0};
     for (size_t c = 0; c < s->nc; c++)
         for (int b = 0; b < 3; b++) slips[b] += (REF_ST[c].slip_flags >> b) & 1;
@@ -1081,6 +1122,8 @@ int main(int argc, char **argv) {
     enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 11 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
+    void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
+                                                 baseline_sliding_prefetch};
     rsl_model *set_model[NSETS] = {make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 1),
                                    make_model(RSL_PRESET_LAMMPS_2021, 0, 1, 1),
                                    make_model(RSL_PRESET_LAMMPS_2021, 1, 0, 0)};
@@ -1135,7 +1178,7 @@ int main(int argc, char **argv) {
         row(g, "floor_prefetch", tf, 0, &s);
         row(g, "floor", fmin(tp, tf), 0, &s);
         s.st0 = s.st0_slip;
-        run_baseline(&s, g, "baseline_c", baseline[set], reps);
+        run_baseline(&s, g, "", baseline[set], baseline_prefetch[set], reps);
         MODEL = set_model[set];
         check(rsl_model_history_size(MODEL, &HWORDS), "rsl_model_history_size");
         if (want("percontact_acc_c"))
@@ -1221,7 +1264,7 @@ int main(int argc, char **argv) {
         }
         /* the same set on the no-slip histories: the baseline's best case */
         s.st0 = s.st0_noslip;
-        run_baseline(&s, g, "baseline_c[noslip]", baseline[set], reps);
+        run_baseline(&s, g, "[noslip]", baseline[set], baseline_prefetch[set], reps);
         MODEL = set_model[set];
         if (want("percontact_acc_c"))
             row(g, "percontact_acc_c[noslip]", timeit(&s, percontact_acc, reps), 1, &s);

@@ -1,6 +1,7 @@
-//! `cargo bench --bench batch`: run time of the batch kernels against hand-written C baselines,
-//! the per-contact C calls and the memory floor, for three physics sets (full, rolltwist,
-//! sliding), on two workloads, out of cache (1,200,000 contacts) and in cache (2,000 contacts).
+//! `cargo bench --bench batch`: run time of the batch kernels against hand-written C baselines
+//! (each the faster of its loop without and with the library's prefetches), the per-contact C
+//! calls and the memory floor, for three physics sets (full, rolltwist, sliding), on two
+//! workloads, out of cache (1,200,000 contacts) and in cache (2,000 contacts).
 //!
 //! Workload A (the headline): a jittered FCC packing whose particles are spatially sorted as a
 //! DEM code keeps them (LAMMPS' atom sort: lexicographic order of small spatial bins), contacts
@@ -316,6 +317,8 @@ fn main() {
          half neighbour list; workload B: particle ids randomly permuted. A random quarter of \
          the contacts (driver option --slip) starts beyond each law's limit (the info lines give \
          the fractions measured); the scalar baselines mispredict their clip branches on them. \
+         Each set's baseline is the faster of its hand-written loop without and with the \
+         library's prefetches (rows baseline_c_plain and baseline_c_prefetch). \
          Rows marked [noslip] (\"no slip\" in the summary) run on the same histories with every \
          spring below its limit (no clip taken: the baselines' best case) and are divided by \
          the baseline on those histories. The rows are described \
