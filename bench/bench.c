@@ -531,6 +531,20 @@ static inline __attribute__((always_inline)) void prefetch_contact(const scene *
     __builtin_prefetch(&s->st[e].slip_flags, 1, 2);
 }
 
+/* baseline_NAME: the loop over every contact of NAME_body; baseline_NAME_prefetch: the same with
+ * the library's prefetches of the contact AHEAD further on. */
+#define BASELINE_LOOPS(NAME)                                                \
+    static void baseline_##NAME(scene *s) {                                 \
+        for (size_t c = 0; c < s->nc; c++) NAME##_body(s, c);               \
+    }                                                                       \
+    static void baseline_##NAME##_prefetch(scene *s) {                      \
+        size_t nc = s->nc;                                                  \
+        for (size_t c = 0; c < nc; c++) {                                   \
+            if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);             \
+            NAME##_body(s, c);                                              \
+        }                                                                   \
+    }
+
 /* full: linear history sliding + rolling sds + twisting sds */
 static inline __attribute__((always_inline)) void full_body(scene *s, size_t c) {
     const rsl_sphere *P = s->p;
@@ -589,16 +603,7 @@ static inline __attribute__((always_inline)) void full_body(scene *s, size_t c) 
     st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
     st->slip_flags = s1 | s2 << 1 | s3 << 2;
 }
-static void baseline_full(scene *s) {
-    for (size_t c = 0; c < s->nc; c++) full_body(s, c);
-}
-static void baseline_full_prefetch(scene *s) {
-    size_t nc = s->nc;
-    for (size_t c = 0; c < nc; c++) {
-        if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
-        full_body(s, c);
-    }
-}
+BASELINE_LOOPS(full)
 
 /* rolltwist: rolling sds + twisting sds, no sliding law (the velocities are not read; the
  * sliding spring is not touched). */
@@ -642,16 +647,7 @@ static inline __attribute__((always_inline)) void rolltwist_body(scene *s, size_
     st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
     st->slip_flags = s2 << 1 | s3 << 2;
 }
-static void baseline_rolltwist(scene *s) {
-    for (size_t c = 0; c < s->nc; c++) rolltwist_body(s, c);
-}
-static void baseline_rolltwist_prefetch(scene *s) {
-    size_t nc = s->nc;
-    for (size_t c = 0; c < nc; c++) {
-        if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
-        rolltwist_body(s, c);
-    }
-}
+BASELINE_LOOPS(rolltwist)
 
 /* sliding: linear history sliding only (the rolling spring and twisting angle not touched). */
 static inline __attribute__((always_inline)) void sliding_body(scene *s, size_t c) {
@@ -691,16 +687,7 @@ static inline __attribute__((always_inline)) void sliding_body(scene *s, size_t 
     st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
     st->slip_flags = s1;
 }
-static void baseline_sliding(scene *s) {
-    for (size_t c = 0; c < s->nc; c++) sliding_body(s, c);
-}
-static void baseline_sliding_prefetch(scene *s) {
-    size_t nc = s->nc;
-    for (size_t c = 0; c < nc; c++) {
-        if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
-        sliding_body(s, c);
-    }
-}
+BASELINE_LOOPS(sliding)
 
 /* ---- memory floor: same bytes, same access pattern, no physics ---- */
 static inline __attribute__((always_inline)) void floor_body(scene *s, size_t c) {
