@@ -27,8 +27,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for side in before after; do
   lib=${!side}
-  ${CC:-cc} -O3 -march=native -no-pie -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude bench/bench.c \
-    "$lib" -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$tmp/$side"
+  scripts/build_driver.sh "$lib" "$tmp/$side"
 done
 for _ in $(seq "$rounds"); do
   for side in before after; do

@@ -24,8 +24,7 @@ target=target/profile-lines
 CARGO_PROFILE_RELEASE_DEBUG=line-tables-only CARGO_TARGET_DIR=$target cargo build --release --lib
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-${CC:-cc} -O3 -march=x86-64-v3 -no-pie -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude bench/bench.c \
-  $target/release/librollslide.a -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$out/driver"
+scripts/build_driver.sh $target/release/librollslide.a "$out/driver" x86-64-v3
 valgrind --tool=callgrind --dump-instr=yes --callgrind-out-file="$out/cg" \
   "$out/driver" "$contacts" 1 --workload=A --set="$set_name" --only="$row\$" \
   >"$out/rows" 2>"$out/log" || { tail -5 "$out/log" >&2; exit 1; }

@@ -26,8 +26,7 @@ command -v setarch >/dev/null || { echo "placement_sweep: needs setarch (util-li
 cd "$(dirname "$0")/.."
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-${CC:-cc} -O3 -march=native -no-pie -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude bench/bench.c \
-  "$lib" -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$tmp/driver"
+scripts/build_driver.sh "$lib" "$tmp/driver"
 step=$(( (4096 / pads + 63) / 64 * 64 ))
 for k in $(seq 0 $((pads - 1))); do
   pad=$(( (k * step) % 4096 ))

@@ -17,9 +17,7 @@ cd "$(dirname "$0")/.."
 target=target/profile-lines
 CARGO_PROFILE_RELEASE_DEBUG=line-tables-only CARGO_TARGET_DIR=$target cargo build --release --lib
 out=$(mktemp -d)
-cc=${CC:-cc}
-$cc -O3 -march=native -no-pie -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude bench/bench.c \
-  $target/release/librollslide.a -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$out/driver"
+scripts/build_driver.sh $target/release/librollslide.a "$out/driver"
 perf record -q -e cpu-clock -o "$out/perf.data" \
   "$out/driver" "$contacts" ${REPS:-6} --workload="$workload" --only="$row" >/dev/null
 # The kernels are named after their level and precision (x86::avx512_f64, scalar_f32...).
