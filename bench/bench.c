@@ -511,8 +511,9 @@ static inline double lammps_twist(double *theta, double wtw, double fn, uint32_t
 }
 
 /* The lines of contact e that the library's batch kernel prefetches (src/capi/batch.rs: PREFETCHT1
- * of each scattered slot's first and last word and of the state), AHEAD contacts before it
- * needs them. The prefetching baselines and floor call it for c + AHEAD. */
+ * of each scattered slot's first and last word and of the state; here the lines written get
+ * PREFETCHW where -march has it), AHEAD contacts before it needs them. The prefetching
+ * baselines and floor call it for c + AHEAD. */
 #define AHEAD 48
 /* always_inline: without it GCC 12 emitted none of these prefetches (it seems to take a function
  * whose only effect is a prefetch for one without effects, and drop its calls). */
