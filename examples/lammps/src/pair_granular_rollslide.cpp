@@ -530,6 +530,14 @@ void PairGranularRollslide::compute(int eflag, int vflag)
           chunk_gammat = per_gammat;
         }
         const int k = npending++;
+        // flush() copies this contact's history into the chunk, up to CHUNK contacts later.
+        // The histories of all neighbour pairs are far larger than the cache, and that copy
+        // would wait on each one in turn: fetched now (for writing: flush() writes it back),
+        // it is in cache by then.
+        const char *h = reinterpret_cast<const char *>(&states[e]);
+        __builtin_prefetch(h, 1);
+        __builtin_prefetch(h + 64, 1);
+        __builtin_prefetch(h + sizeof(rsl_contact_state) - 1, 1);
         Pending &p = pending[k];
         p.i = i;
         p.j = j;
