@@ -8,7 +8,8 @@
 #     WORKLOAD  A or B (default A); CONTACTS (default 1200000)
 #
 # Needs perf and addr2line (binutils). Prints the share of the kernel's samples per part, then
-# the share that lands on instructions addressing the stack frame (rows and spilled values).
+# the share that lands on instructions addressing the stack frame (rows and spilled values) and
+# the size of the hottest kernel's hot code.
 set -eu
 row=${1:-batch_f64_avx512}
 workload=${2:-A}
@@ -93,5 +94,12 @@ total = sum(hits.values()) or 1
 on_stack = sum(c for a, c in hits.items() if stack(insns[a]))
 print(f"hottest kernel: {len(insns)} instructions, {sum(map(stack, insns.values()))} address the stack;")
 print(f"{100 * on_stack / total:.1f}% of its samples land on those")
+# Its hot code: the instructions in the 64-byte lines that have samples (a lower bound of what
+# runs; with the lines next to those, a closer estimate), against the core's op cache
+# (bench/code_size.c measures where a loop outgrows it).
+lines = {a // 64 for a in hits}
+near = {l + d for l in lines for d in (-1, 0, 1)}
+print(f"hot code: {sum(a // 64 in lines for a in insns)} instructions in the {len(lines)} lines "
+      f"with samples, {sum(a // 64 in near for a in insns)} with the lines next to them")
 EOF
 rm -rf "$out"
