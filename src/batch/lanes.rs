@@ -9,7 +9,9 @@
 use crate::scalar::Real;
 use simba::simd::{AutoF32x8, AutoF64x4, AutoF64x8, AutoSimd};
 
-/// The most lanes any [`Lanes`] type has (sizes the per-chunk scratch arrays).
+/// The most lanes of a decomposition kernel's lane type (sizes its per-chunk rows). The step
+/// kernels' lane types may have more (16 `f32` lanes under AVX-512): theirs need only divide the
+/// block (`step_kernel` asserts it).
 pub const MAX_LANES: usize = 8;
 
 /// A [`Real`] type with a known number of lanes, built from and read back as `f64` per lane.
