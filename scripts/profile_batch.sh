@@ -95,8 +95,8 @@ on_stack = sum(c for a, c in hits.items() if stack(insns[a]))
 print(f"hottest kernel: {len(insns)} instructions, {sum(map(stack, insns.values()))} address the stack;")
 print(f"{100 * on_stack / total:.1f}% of its samples land on those")
 # Its hot code: the instructions in the 64-byte lines that have samples (a lower bound of what
-# runs; with the lines next to those, a closer estimate), against the core's op cache
-# (bench/code_size.c measures where a loop outgrows it).
+# runs; with the lines next to those, a closer estimate), to set against the loop size at which
+# this core's front end slows down (bench/code_size.c measures it).
 lines = {a // 64 for a in hits}
 near = {l + d for l in lines for d in (-1, 0, 1)}
 print(f"hot code: {sum(a // 64 in lines for a in insns)} instructions in the {len(lines)} lines "
