@@ -420,6 +420,18 @@ typedef struct rsl_batch_report {
   uint32_t reserved;
 } rsl_batch_report;
 
+// Per-contact coefficients of `rsl_batch_step_params` and `rsl_batch_step_contacts_params`, used
+// instead of the model's (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS`
+// and `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
+// contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin. Each pointer is NULL (the
+// model's value for every contact) or an array of one value per contact.
+typedef struct rsl_batch_contact_params {
+  // Sliding stiffness `k_t` per contact (force/length, finite, >= 0), or NULL.
+  const double *sliding_stiffness;
+  // Sliding damping `gamma_t` per contact (force/velocity, finite, >= 0), or NULL.
+  const double *sliding_damping;
+} rsl_batch_contact_params;
+
 // Loads of one contact (contact-major step): body 2 receives `-force1` and `torque2`.
 typedef struct rsl_batch_loads {
   // Force on body 1.
@@ -429,18 +441,6 @@ typedef struct rsl_batch_loads {
   // Torque on body 2 about its centre.
   struct rsl_vec3 torque2;
 } rsl_batch_loads;
-
-// Per-contact coefficients of `rsl_batch_step_contacts_params`, used instead of the model's
-// (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS` and
-// `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
-// contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin. Each pointer is NULL (the
-// model's value for every contact) or an array of one value per contact.
-typedef struct rsl_batch_contact_params {
-  // Sliding stiffness `k_t` per contact (force/length, finite, >= 0), or NULL.
-  const double *sliding_stiffness;
-  // Sliding damping `gamma_t` per contact (force/velocity, finite, >= 0), or NULL.
-  const double *sliding_damping;
-} rsl_batch_contact_params;
 
 // Options of a decomposition. Pass NULL for the defaults (midplane, exact rolling radius,
 // every part), or start from `rsl_decompose_options_default()`.
@@ -716,9 +716,11 @@ extern "C" {
 // computed and checked finite, as `rsl_contact_step` does (turn tracking off for the batch if
 // they are not wanted).
 //
-// Speed: a call whose arrays take at least 1 MiB in all prefetches each contact's state and
-// bodies 48 contacts ahead; a smaller call, whose data is most likely in cache already, does
-// not (the prefetches would only cost instructions). The results are the same either way.
+// Speed: a call whose arrays take at least 1 MiB in all (counting at most two particles per
+// contact of `particles`, `force` and `torque`: a call on a chunk of a large scene touches only
+// those) prefetches each contact's state and bodies 48 contacts ahead; a smaller call, whose
+// data is most likely in cache already, does not (the prefetches would only cost
+// instructions). The results are the same either way.
 //
 // Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
 // centres, branch <= 0, non-finite result, energy terms included) are
@@ -746,6 +748,34 @@ int32_t rsl_batch_step(const struct rsl_model *model,
                        struct rsl_vec3 *force,
                        struct rsl_vec3 *torque,
                        struct rsl_batch_report *report);
+
+// As `rsl_batch_step`, with per-contact sliding coefficients (`params`, NULL for none, as
+// `rsl_batch_step_contacts_params` takes them): contact `c` (particles `pairs[2c]` and
+// `pairs[2c+1]`) uses `params->sliding_stiffness[c]` and `params->sliding_damping[c]` (each
+// array NULL for the model's value) instead of the model's `k_t` and `gamma_t`, e.g. the
+// contact-area-dependent coefficients of Hertz-Mindlin laws. A contact whose `k_t` or `gamma_t` is negative or not
+// finite is skipped as invalid (status `RSL_ERR_INVALID_ARGUMENT` or `RSL_ERR_NON_FINITE`, as
+// `rsl_contact_step` gives). In double precision the results equal `rsl_contact_step`'s with
+// `RSL_INPUT_SLIDING_STIFFNESS` and `RSL_INPUT_SLIDING_DAMPING` bit for bit. Without
+// per-contact arrays it runs the kernels of `rsl_batch_step`.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// As `rsl_batch_step`; `params` NULL or readable, its non-NULL arrays holding `n_contacts`
+// values.
+int32_t rsl_batch_step_params(const struct rsl_model *model,
+                              const struct rsl_sphere *particles,
+                              size_t n_particles,
+                              const uint32_t *pairs,
+                              size_t n_contacts,
+                              const double *normal_force,
+                              const double *normal_stiffness,
+                              const struct rsl_batch_contact_params *params,
+                              double dt,
+                              const struct rsl_batch_options *options,
+                              struct rsl_contact_state *states,
+                              struct rsl_vec3 *force,
+                              struct rsl_vec3 *torque,
+                              struct rsl_batch_report *report);
 
 // Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`: 7 when
 // neither transport reads the previous normal (`RSL_TRANSPORT_PROJECT_RESCALE`,

@@ -6,7 +6,7 @@ mod common;
 use common::{full_model, scene_models, Rng};
 use rollslide::batch::history::{history_words, words_from_state};
 use rollslide::batch::{
-    ContactSteps, Gather, ParticleDecompose, ParticleSteps, Scene, SlidingOverrides,
+    ContactSteps, Gather, ModelSliding, ParticleDecompose, ParticleSteps, Scene, SlidingOverrides,
     PREFETCH_MIN_BYTES,
 };
 use rollslide::capi::batch::rsl_batch_loads;
@@ -321,6 +321,7 @@ fn particle_major_accumulates_per_contact_loads() {
             states: &mut states,
             force: &mut force,
             torque: &mut torque,
+            sliding: ModelSliding,
         };
         access.check().unwrap();
         let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
@@ -407,6 +408,7 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
             states: &mut states,
             force: &mut force,
             torque: &mut torque,
+            sliding: ModelSliding,
         };
         let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
         assert_eq!(report.processed + skipped, sc.pairs.len());
@@ -470,6 +472,7 @@ fn calls_with_and_without_prefetching_give_the_same_bits() {
                         states: &mut states[c0..c1],
                         force: &mut force,
                         torque: &mut torque,
+                        sliding: ModelSliding,
                     };
                     assert_eq!(access.prefetching(), size == nc, "{size} contacts");
                     assert_eq!(
@@ -544,6 +547,7 @@ fn repeated_steps_scalar_and_simd_agree() {
                 states: &mut states,
                 force: &mut force,
                 torque: &mut torque,
+                sliding: ModelSliding,
             };
             let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
             assert_eq!(report.failed, 0, "step {step}");
@@ -633,6 +637,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             states: &mut states,
             force: &mut vec![rsl_vec3::default(); sc.particles.len()],
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
+            sliding: ModelSliding,
         };
         let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
         assert_eq!(report.failed, bad.len(), "{config:?}");
@@ -692,6 +697,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             states: &mut states,
             force: &mut vec![rsl_vec3::default(); sc.particles.len()],
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
+            sliding: ModelSliding,
         };
         let (report, _) = run_step(&model, dt, &mut access, configs()[0]).unwrap();
         assert!(
@@ -718,6 +724,7 @@ fn call_level_errors_process_nothing() {
         states: &mut states,
         force: &mut force,
         torque: &mut torque,
+        sliding: ModelSliding,
     };
     let config = configs()[0];
     assert_eq!(
@@ -873,6 +880,7 @@ fn packed_histories_step_as_full_states() {
                 states: &mut states,
                 force: &mut force,
                 torque: &mut torque,
+                sliding: ModelSliding,
             };
             let (full, full_scene) = run_step(&model, dt, &mut access, config).unwrap();
             let packed = match words {
@@ -944,6 +952,7 @@ fn step_packed<const W: usize>(
         states: &mut records,
         force: &mut force,
         torque: &mut torque,
+        sliding: ModelSliding,
     };
     let (report, scene) = run_history_step(model, dt, &mut access, config).unwrap();
     Packed {
@@ -1047,4 +1056,149 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
         }
     }
     assert!(tested > 0);
+}
+
+/// Per-contact sliding coefficients in the particle-major step (`ParticleSteps` with
+/// `SlidingOverrides`) against the contact-major step with the same overrides (checked against
+/// the per-contact step above): the same report, the same new states, and accumulators equal to
+/// the contact-major loads added in contact order (`force[i] += F1`, `force[j] -= F1`,
+/// `torque[i] += M1`, `torque[j] += M2`), bit for bit in double precision at every level and
+/// scene kernel (1e-4 of the scale in single, whose kernels differ in their lane counts).
+#[test]
+fn particle_major_sliding_coefficients_match_the_contact_major_step() {
+    let dt = 1e-4;
+    let sc = scenario(40, 150, 33);
+    let mut rng = Rng::new(9);
+    let n = sc.pairs.len();
+    let np = sc.particles.len();
+    let mut k_t: Vec<f64> = (0..n).map(|_| rng.uniform(0.0, 4e4)).collect();
+    let mut gamma_t: Vec<f64> = (0..n).map(|_| rng.uniform(0.0, 20.0)).collect();
+    k_t[17] = -1.0;
+    gamma_t[50] = f64::NAN;
+    let body = |c: usize, k: usize| sc.particles[sc.pairs[c][k] as usize];
+    let body1: Vec<rsl_sphere> = (0..n).map(|c| body(c, 0)).collect();
+    let body2: Vec<rsl_sphere> = (0..n).map(|c| body(c, 1)).collect();
+    let start = rsl_vec3 {
+        x: 0.25,
+        y: -1.0,
+        z: 2.0,
+    };
+    let mut tested = 0;
+    for (model, scene) in models() {
+        for (use_k, use_g) in [(true, false), (false, true), (true, true)] {
+            let sliding = SlidingOverrides {
+                stiffness: use_k.then_some(&k_t[..]),
+                damping: use_g.then_some(&gamma_t[..]),
+            };
+            for config in configs() {
+                let what = format!("{scene:?} {config:?} k_t {use_k} gamma_t {use_g}");
+                let mut want_states = sc.states.clone();
+                let mut out = vec![rsl_batch_loads::default(); n];
+                let mut contacts = ContactSteps {
+                    body1: &body1,
+                    body2: &body2,
+                    normal_force: &sc.normal_force,
+                    normal_stiffness: None,
+                    states: &mut want_states,
+                    out: &mut out,
+                    sliding,
+                };
+                let (want, _) = run_step(&model, dt, &mut contacts, config).unwrap();
+                let skipped = out
+                    .iter()
+                    .filter(|l| **l == rsl_batch_loads::default())
+                    .count();
+                assert_eq!(
+                    skipped, want.failed,
+                    "{what}: only the skipped have no loads"
+                );
+                let (mut want_force, mut want_torque) = (vec![start; np], vec![start; np]);
+                for (l, pair) in out.iter().zip(&sc.pairs) {
+                    if *l == rsl_batch_loads::default() {
+                        continue; // skipped (a processed contact has non-zero loads here)
+                    }
+                    let [i, j] = pair.map(|p| p as usize);
+                    let add = |a: &mut rsl_vec3, b: rsl_vec3, s: f64| {
+                        (a.x, a.y, a.z) = (a.x + s * b.x, a.y + s * b.y, a.z + s * b.z);
+                    };
+                    add(&mut want_force[i], l.force1, 1.0);
+                    add(&mut want_force[j], l.force1, -1.0);
+                    add(&mut want_torque[i], l.torque1, 1.0);
+                    add(&mut want_torque[j], l.torque2, 1.0);
+                }
+                let mut states = sc.states.clone();
+                let (mut force, mut torque) = (vec![start; np], vec![start; np]);
+                let mut access = ParticleSteps {
+                    particles: &sc.particles,
+                    pairs: &sc.pairs,
+                    normal_force: &sc.normal_force,
+                    normal_stiffness: None,
+                    states: &mut states,
+                    force: &mut force,
+                    torque: &mut torque,
+                    sliding,
+                };
+                access.check().unwrap();
+                let (got, _) = run_step(&model, dt, &mut access, config).unwrap();
+                assert_eq!(got.first_failed, want.first_failed, "{what}");
+                assert_eq!(got.first_error, want.first_error, "{what}");
+                assert_eq!(
+                    (got.failed, got.processed),
+                    (want.failed, want.processed),
+                    "{what}"
+                );
+                assert!(got.failed >= 1, "{what}: the bad coefficients are skipped");
+                for p in 0..np {
+                    for (g, w) in [(force[p], want_force[p]), (torque[p], want_torque[p])] {
+                        for (a, b) in [(g.x, w.x), (g.y, w.y), (g.z, w.z)] {
+                            if config.f32 {
+                                assert!(close(a, b, 1e-4, 1e-4), "{what}: {p}: {a} vs {b}");
+                            } else {
+                                assert_eq!(a.to_bits(), b.to_bits(), "{what}: particle {p}");
+                            }
+                        }
+                    }
+                }
+                if !config.f32 {
+                    assert_eq!(states, want_states, "{what}");
+                }
+                tested += 1;
+            }
+        }
+    }
+    assert!(tested > 0);
+}
+
+/// A particle-major call counts at most two particles per contact toward the prefetch threshold
+/// (and their force and torque): a chunk of a large scene, passed with the scene's whole particle
+/// array, runs the kernels without prefetches, the whole scene in one call the prefetching ones.
+#[test]
+fn chunks_of_a_large_scene_count_only_the_particles_they_reach() {
+    let sc = scenario(20_000, 12_000, 41);
+    let np = sc.particles.len();
+    assert!(
+        size_of_val(&sc.particles[..]) > PREFETCH_MIN_BYTES,
+        "a large particle array"
+    );
+    let mut states = sc.states.clone();
+    let (mut force, mut torque) = (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+    for (contacts, prefetches) in [(sc.pairs.len(), true), (512, false)] {
+        let access = ParticleSteps {
+            particles: &sc.particles,
+            pairs: &sc.pairs[..contacts],
+            normal_force: &sc.normal_force[..contacts],
+            normal_stiffness: None,
+            states: &mut states[..contacts],
+            force: &mut force,
+            torque: &mut torque,
+            sliding: ModelSliding,
+        };
+        assert_eq!(access.prefetching(), prefetches, "{contacts} contacts");
+        let decompose = ParticleDecompose {
+            particles: &sc.particles,
+            pairs: &sc.pairs[..contacts],
+            out: &mut vec![rsl_decomposition::default(); contacts][..],
+        };
+        assert_eq!(decompose.prefetching(), prefetches, "{contacts} contacts");
+    }
 }

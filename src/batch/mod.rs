@@ -380,11 +380,45 @@ impl SlidingOverrides<'_> {
     fn fits(&self, n: usize) -> bool {
         self.stiffness.is_none_or(|k| k.len() == n) && self.damping.is_none_or(|g| g.len() == n)
     }
+
+    /// The bytes of the given arrays.
+    fn bytes(&self) -> usize {
+        self.stiffness.map_or(0, size_of_val) + self.damping.map_or(0, size_of_val)
+    }
+}
+
+/// Where a particle-major step takes its per-contact sliding coefficients from: the model
+/// ([`ModelSliding`], known when the kernel is compiled) or per-contact arrays
+/// ([`SlidingOverrides`], read at run time). They are two types, not one value, so that calls
+/// without per-contact coefficients run kernels compiled without them: reading
+/// [`SlidingOverrides::NONE`] at run time made most particle-major kernels slower in cache, by up
+/// to 27% (docs/performance.md, "Per-contact coefficients").
+pub trait SlidingSource: Copy {
+    /// The per-contact coefficients.
+    fn overrides(&self) -> SlidingOverrides<'_>;
+}
+
+/// No per-contact sliding coefficients: the model's for every contact.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ModelSliding;
+
+impl SlidingSource for ModelSliding {
+    #[inline(always)]
+    fn overrides(&self) -> SlidingOverrides<'_> {
+        SlidingOverrides::NONE
+    }
+}
+
+impl SlidingSource for SlidingOverrides<'_> {
+    #[inline(always)]
+    fn overrides(&self) -> SlidingOverrides<'_> {
+        *self
+    }
 }
 
 /// Particle-major step: particles + index pairs; loads accumulated per particle
 /// (`force[i] += F1`, `force[j] -= F1`, `torque[i] += M1`, `torque[j] += M2`).
-pub struct ParticleSteps<'a, P, S, V> {
+pub struct ParticleSteps<'a, P, S, V, O = ModelSliding> {
     /// Particles (index space of `pairs`).
     pub particles: &'a [P],
     /// Contacts `(i, j)`: body 1 is particle `i`, body 2 particle `j`.
@@ -399,9 +433,11 @@ pub struct ParticleSteps<'a, P, S, V> {
     pub force: &'a mut [V],
     /// Torque accumulator per particle.
     pub torque: &'a mut [V],
+    /// Per-contact sliding coefficients ([`ModelSliding`]: the model's).
+    pub sliding: O,
 }
 
-impl<'a, P, S, V> ParticleSteps<'a, P, S, V> {
+impl<'a, P, S, V, O: SlidingSource> ParticleSteps<'a, P, S, V, O> {
     /// Checks that the per-contact arrays have one entry per pair and the per-particle ones one
     /// per particle.
     pub fn check(&self) -> Result<(), Error> {
@@ -411,7 +447,8 @@ impl<'a, P, S, V> ParticleSteps<'a, P, S, V> {
             && self.normal_stiffness.is_none_or(|k| k.len() == nc)
             && self.states.len() == nc
             && self.force.len() == np
-            && self.torque.len() == np;
+            && self.torque.len() == np
+            && self.sliding.overrides().fits(nc);
         if ok {
             Ok(())
         } else {
@@ -422,7 +459,9 @@ impl<'a, P, S, V> ParticleSteps<'a, P, S, V> {
     }
 }
 
-impl<P: SphereSlot, S: StateSlot, V: AddSlot> Gather for ParticleSteps<'_, P, S, V> {
+impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> Gather
+    for ParticleSteps<'_, P, S, V, O>
+{
     type P = P;
     #[inline(always)]
     fn gatherable(&self) -> bool {
@@ -444,17 +483,21 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot> Gather for ParticleSteps<'_, P, S,
         }
     }
     fn footprint(&self) -> usize {
-        size_of_val(self.particles)
+        let n = self.pairs.len();
+        reachable_bytes(self.particles, n)
             + size_of_val(self.pairs)
             + size_of_val(self.normal_force)
             + self.normal_stiffness.map_or(0, size_of_val)
             + size_of_val(&*self.states)
-            + size_of_val(&*self.force)
-            + size_of_val(&*self.torque)
+            + reachable_bytes(self.force, n)
+            + reachable_bytes(self.torque, n)
+            + self.sliding.overrides().bytes()
     }
 }
 
-impl<P: SphereSlot, S: StateSlot, V: AddSlot> StepAccess for ParticleSteps<'_, P, S, V> {
+impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> StepAccess
+    for ParticleSteps<'_, P, S, V, O>
+{
     type State = S;
     #[inline(always)]
     fn len(&self) -> usize {
@@ -471,6 +514,10 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot> StepAccess for ParticleSteps<'_, P
     #[inline(always)]
     fn normal_stiffness(&self, c: usize) -> f64 {
         self.normal_stiffness.map_or(0.0, |k| k[c])
+    }
+    #[inline(always)]
+    fn sliding_overrides(&self) -> SlidingOverrides<'_> {
+        self.sliding.overrides()
     }
     #[inline(always)]
     fn state(&mut self, c: usize) -> &mut S {
@@ -632,8 +679,7 @@ impl<P: SphereSlot, S: StateSlot, O> Gather for ContactSteps<'_, P, S, O> {
             + self.normal_stiffness.map_or(0, size_of_val)
             + size_of_val(&*self.states)
             + size_of_val(&*self.out)
-            + self.sliding.stiffness.map_or(0, size_of_val)
-            + self.sliding.damping.map_or(0, size_of_val)
+            + self.sliding.bytes()
     }
 }
 
@@ -748,7 +794,9 @@ impl<P: SphereSlot, D> Gather for ParticleDecompose<'_, P, D> {
         }
     }
     fn footprint(&self) -> usize {
-        size_of_val(self.particles) + size_of_val(self.pairs) + size_of_val(&*self.out)
+        reachable_bytes(self.particles, self.pairs.len())
+            + size_of_val(self.pairs)
+            + size_of_val(&*self.out)
     }
 }
 
@@ -868,6 +916,14 @@ const TOUCH_AHEAD: usize = 48;
 /// 6,000 and 20,000 (1 and 3 MB), 1-6% at 60,000 (10 MB), 9-31% more at 200,000 (32 MB, this
 /// CPU's L3) and 30-50% more at 1.2 million.
 pub const PREFETCH_MIN_BYTES: usize = 1 << 20;
+
+/// The bytes of a per-particle array that `n_contacts` contacts can reach: at most two
+/// particles each. A host that steps a large scene in chunks (a pair style handing over a few
+/// hundred contacts at a time with its whole particle array) touches only those, most likely
+/// in cache; counting the whole array would make every chunk run the prefetching kernel.
+fn reachable_bytes<T>(per_particle: &[T], n_contacts: usize) -> usize {
+    size_of::<T>() * per_particle.len().min(n_contacts.saturating_mul(2))
+}
 
 /// Bits `0..lanes` set.
 #[inline(always)]

@@ -31,8 +31,8 @@ use crate::batch::history::{
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactSteps, DecomposeAccess, DecompositionSlot,
-    Gather, GroupCopy, LoadsSlot, PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, Scene,
-    SlidingOverrides, SphereSlot, StateSlot, StepAccess,
+    Gather, GroupCopy, LoadsSlot, ModelSliding, PairLoads, ParticleDecompose, ParticleSteps,
+    PortableCopy, Scene, SlidingOverrides, SlidingSource, SphereSlot, StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
 use crate::error::Error;
@@ -897,6 +897,33 @@ unsafe fn stiffness_in<'a>(
     }
 }
 
+/// Borrows the per-contact sliding coefficients of a `*_params` call (`params` NULL, or each of
+/// its arrays NULL or holding `n` values).
+///
+/// # Safety
+/// `params` NULL or readable; its non-NULL arrays hold `n` values.
+unsafe fn sliding_in<'a>(
+    params: *const rsl_batch_contact_params,
+    n: usize,
+) -> Result<SlidingOverrides<'a>, FfiError> {
+    // SAFETY: forwarded contract; `optional_input` checks NULL and alignment.
+    let Some(p) = (unsafe { optional_input(params, "params")? }) else {
+        return Ok(SlidingOverrides::NONE);
+    };
+    let optional = |a: *const f64, name| {
+        if a.is_null() {
+            Ok(None)
+        } else {
+            // SAFETY: forwarded contract: a non-NULL array holds `n` values.
+            unsafe { slice_in(a, n, name) }.map(Some)
+        }
+    };
+    Ok(SlidingOverrides {
+        stiffness: optional(p.sliding_stiffness, "params.sliding_stiffness")?,
+        damping: optional(p.sliding_damping, "params.sliding_damping")?,
+    })
+}
+
 /// The checked arguments of a particle-major step call, but its per-contact histories.
 struct ParticleArgs<'a> {
     model: &'a rsl_model,
@@ -968,9 +995,11 @@ unsafe fn particle_args<'a>(
 /// computed and checked finite, as `rsl_contact_step` does (turn tracking off for the batch if
 /// they are not wanted).
 ///
-/// Speed: a call whose arrays take at least 1 MiB in all prefetches each contact's state and
-/// bodies 48 contacts ahead; a smaller call, whose data is most likely in cache already, does
-/// not (the prefetches would only cost instructions). The results are the same either way.
+/// Speed: a call whose arrays take at least 1 MiB in all (counting at most two particles per
+/// contact of `particles`, `force` and `torque`: a call on a chunk of a large scene touches only
+/// those) prefetches each contact's state and bodies 48 contacts ahead; a smaller call, whose
+/// data is most likely in cache already, does not (the prefetches would only cost
+/// instructions). The results are the same either way.
 ///
 /// Invalid contacts (index out of range, non-finite input or state, radius <= 0, coincident
 /// centres, branch <= 0, non-finite result, energy terms included) are
@@ -1001,6 +1030,77 @@ pub unsafe extern "C" fn rsl_batch_step(
     torque: *mut rsl_vec3,
     report: *mut rsl_batch_report,
 ) -> i32 {
+    // SAFETY: forwarded contract; no per-contact coefficients.
+    unsafe {
+        rsl_batch_step_params(
+            model,
+            particles,
+            n_particles,
+            pairs,
+            n_contacts,
+            normal_force,
+            normal_stiffness,
+            std::ptr::null(),
+            dt,
+            options,
+            states,
+            force,
+            torque,
+            report,
+        )
+    }
+}
+
+/// As `rsl_batch_step`, with per-contact sliding coefficients (`params`, NULL for none, as
+/// `rsl_batch_step_contacts_params` takes them): contact `c` (particles `pairs[2c]` and
+/// `pairs[2c+1]`) uses `params->sliding_stiffness[c]` and `params->sliding_damping[c]` (each
+/// array NULL for the model's value) instead of the model's `k_t` and `gamma_t`, e.g. the
+/// contact-area-dependent coefficients of Hertz-Mindlin laws. A contact whose `k_t` or `gamma_t` is negative or not
+/// finite is skipped as invalid (status `RSL_ERR_INVALID_ARGUMENT` or `RSL_ERR_NON_FINITE`, as
+/// `rsl_contact_step` gives). In double precision the results equal `rsl_contact_step`'s with
+/// `RSL_INPUT_SLIDING_STIFFNESS` and `RSL_INPUT_SLIDING_DAMPING` bit for bit. Without
+/// per-contact arrays it runs the kernels of `rsl_batch_step`.
+///
+/// # Safety
+/// As `rsl_batch_step`; `params` NULL or readable, its non-NULL arrays holding `n_contacts`
+/// values.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_step_params(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    params: *const rsl_batch_contact_params,
+    dt: f64,
+    options: *const rsl_batch_options,
+    states: *mut rsl_contact_state,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    /// Steps the checked arguments with coefficients from `sliding`.
+    fn run<O: SlidingSource>(
+        a: ParticleArgs<'_>,
+        states: &mut [rsl_contact_state],
+        sliding: O,
+        dt: f64,
+    ) -> Result<(BatchReport, Scene), FfiError> {
+        let mut access = ParticleSteps {
+            particles: a.particles,
+            pairs: a.pairs,
+            normal_force: a.normal_force,
+            normal_stiffness: a.normal_stiffness,
+            states,
+            force: a.force,
+            torque: a.torque,
+            sliding,
+        };
+        access.check()?;
+        Ok(run_step(&a.model.model, dt, &mut access, a.config)?)
+    }
     guard(|| {
         // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
         let report = unsafe { report_out(report)? };
@@ -1021,26 +1121,28 @@ pub unsafe extern "C" fn rsl_batch_step(
                 )?
             };
             // SAFETY: as above.
-            let states = unsafe { slice_out(states, n_contacts, "states")? };
-            let access = ParticleSteps {
-                particles: a.particles,
-                pairs: a.pairs,
-                normal_force: a.normal_force,
-                normal_stiffness: a.normal_stiffness,
-                states,
-                force: a.force,
-                torque: a.torque,
+            let (states, sliding) = unsafe {
+                (
+                    slice_out(states, n_contacts, "states")?,
+                    sliding_in(params, n_contacts)?,
+                )
             };
-            access.check()?;
-            Ok((a.model, access, a.config))
+            Ok((a, states, sliding))
         })();
         match result {
             Err(e) => refuse(report, e),
-            Ok((m, mut access, config)) => finish(
-                report,
-                run_step(&m.model, dt, &mut access, config)
-                    .map(|(b, s)| (b, s as u32, config.simd)),
-            ),
+            Ok((a, states, sliding)) => {
+                let simd = a.config.simd;
+                let stepped = if sliding.stiffness.is_none() && sliding.damping.is_none() {
+                    run(a, states, ModelSliding, dt)
+                } else {
+                    run(a, states, sliding, dt)
+                };
+                match stepped {
+                    Err(e) => refuse(report, e),
+                    Ok((b, scene)) => finish(report, Ok((b, scene as u32, simd))),
+                }
+            }
         }
     })
 }
@@ -1214,6 +1316,7 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                         states,
                         force,
                         torque,
+                        sliding: ModelSliding,
                     };
                     access.check()?;
                     run_history_step(model, dt, &mut access, config)
@@ -1232,9 +1335,9 @@ pub unsafe extern "C" fn rsl_batch_step_history(
     })
 }
 
-/// Per-contact coefficients of `rsl_batch_step_contacts_params`, used instead of the model's
-/// (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS` and
-/// `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
+/// Per-contact coefficients of `rsl_batch_step_params` and `rsl_batch_step_contacts_params`, used
+/// instead of the model's (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS`
+/// and `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
 /// contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin. Each pointer is NULL (the
 /// model's value for every contact) or an array of one value per contact.
 #[repr(C)]
@@ -1316,35 +1419,21 @@ pub unsafe extern "C" fn rsl_batch_step_contacts_params(
         let report = unsafe { report_out(report)? };
         let result = (|| -> Result<_, FfiError> {
             // SAFETY: as above.
-            let (m, body1, body2, f_n, opts, params, states, out) = unsafe {
+            let (m, body1, body2, f_n, opts, states, out) = unsafe {
                 (
                     live_model(model)?,
                     slice_in(body1, n, "body1")?,
                     slice_in(body2, n, "body2")?,
                     slice_in(normal_force, n, "normal_force")?,
                     optional_input(options, "options")?,
-                    optional_input(params, "params")?,
                     slice_out(states, n, "states")?,
                     slice_out(out, n, "out")?,
                 )
             };
             // SAFETY: as above.
             let k_n = unsafe { stiffness_in(m, normal_stiffness, n)? };
-            let optional = |p: *const f64, name| {
-                if p.is_null() {
-                    Ok(None)
-                } else {
-                    // SAFETY: as above: a non-NULL array holds `n` values.
-                    unsafe { slice_in(p, n, name) }.map(Some)
-                }
-            };
-            let sliding = match params {
-                None => SlidingOverrides::NONE,
-                Some(p) => SlidingOverrides {
-                    stiffness: optional(p.sliding_stiffness, "params.sliding_stiffness")?,
-                    damping: optional(p.sliding_damping, "params.sliding_damping")?,
-                },
-            };
+            // SAFETY: as above.
+            let sliding = unsafe { sliding_in(params, n)? };
             let config = BatchConfig::from_options(opts)?;
             let access = ContactSteps {
                 body1,
