@@ -10,7 +10,8 @@
 # Scene: examples/lammps/inputs/in.packing, law A (hooke, velocity damping, linear_history,
 # rolling sds, twisting sds) and law B (hertz/material, viscoelastic damping, mindlin, twisting
 # marshall: the sliding dashpot and stiffness change per contact, passed to the batch call as
-# per-contact arrays); both run rsl_batch_step_contacts_params per chunk. Prints a
+# per-contact arrays); both run rsl_batch_step_params (contacts between owned atoms) and
+# rsl_batch_step_contacts_params (contacts with a ghost atom) per chunk. Prints a
 # Markdown table (medians of the repeats) and the CPU.
 set -euo pipefail
 exe=$(realpath "$1")

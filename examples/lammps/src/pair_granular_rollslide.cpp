@@ -362,14 +362,8 @@ void PairGranularRollslide::init_style()
       models[i * (ntypes + 1) + j] = m;
     }
 
-  pending.resize(CHUNK);
-  body1.resize(CHUNK);
-  body2.resize(CHUNK);
-  normal_force.resize(CHUNK);
-  sliding_stiffness.resize(CHUNK);
-  sliding_damping.resize(CHUNK);
-  chunk_state.resize(CHUNK);
-  chunk_loads.resize(CHUNK);
+  direct.resize(true);
+  paired.resize(false);
 }
 
 double PairGranularRollslide::init_one(int i, int j)
@@ -404,32 +398,88 @@ void PairGranularRollslide::apply(int i, int j, const double del[3], const rsl_v
   if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, force1.x, force1.y, force1.z, del[0], del[1], del[2]);
 }
 
-// Steps the pending contacts in one rsl_batch_step_contacts_params call (with the chunk's
-// per-contact k_t and gamma_t when its law has them), then applies their loads in
-// neighbour-list order.
-void PairGranularRollslide::flush(int, int)
+void PairGranularRollslide::Chunk::resize(bool is_direct)
 {
-  const int n = npending;
+  pending.resize(CHUNK);
+  pairs.resize(is_direct ? 2 * CHUNK : 0);
+  body1.resize(is_direct ? 0 : CHUNK);
+  body2.resize(is_direct ? 0 : CHUNK);
+  normal_force.resize(CHUNK);
+  sliding_stiffness.resize(CHUNK);
+  sliding_damping.resize(CHUNK);
+  state.resize(CHUNK);
+  loads.resize(is_direct ? 0 : CHUNK);
+}
+
+// Steps the direct chunk in one rsl_batch_step_params call (with the chunk's per-contact k_t and
+// gamma_t when its law has them), which adds the loads to both atoms' force and torque in the
+// chunk's order.
+void PairGranularRollslide::flush_direct()
+{
+  Chunk &ch = direct;
+  const int n = ch.n;
   if (n == 0) return;
-  for (int k = 0; k < n; k++) chunk_state[k] = history->state[pending[k].e];
+  load_states(ch);
   rsl_batch_report report;
+  rsl_batch_contact_params params = chunk_params(ch);
+  const size_t nall = (size_t) atom->nlocal + atom->nghost;
+  // atom->f and atom->torque hold 3 contiguous doubles per atom, the layout of rsl_vec3.
+  rsl_vec3 *f = reinterpret_cast<rsl_vec3 *>(atom->f[0]);
+  rsl_vec3 *t = reinterpret_cast<rsl_vec3 *>(atom->torque[0]);
+  int32_t st = rsl_batch_step_params(chunk_model, spheres.data(), nall, ch.pairs.data(), n,
+                                     ch.normal_force.data(), nullptr, &params, dt, nullptr,
+                                     ch.state.data(), f, t, &report);
+  if (st != RSL_OK) chunk_error("rsl_batch_step_params", st, report, ch);
+  rsl_contact_state *states = history->state.data();
+  for (int k = 0; k < n; k++) states[ch.pending[k].e] = ch.state[k];
+  ch.n = 0;
+}
+
+// Copies the stored histories of a chunk's contacts into the chunk.
+void PairGranularRollslide::load_states(Chunk &ch)
+{
+  const rsl_contact_state *states = history->state.data();
+  for (int k = 0; k < ch.n; k++) ch.state[k] = states[ch.pending[k].e];
+}
+
+// A LAMMPS error for the first contact a chunk's library call skipped.
+void PairGranularRollslide::chunk_error(const char *call, int32_t status,
+                                        const rsl_batch_report &report, const Chunk &ch)
+{
+  size_t bad = report.first_failed < (uint64_t) ch.n ? report.first_failed : 0;
+  library_error(call, status, atom->tag[ch.pending[bad].i], atom->tag[ch.pending[bad].j]);
+}
+
+// The per-contact sliding coefficients of a chunk, for its law.
+rsl_batch_contact_params PairGranularRollslide::chunk_params(Chunk &ch) const
+{
   rsl_batch_contact_params params;
-  params.sliding_stiffness = chunk_kt ? sliding_stiffness.data() : nullptr;
-  params.sliding_damping = chunk_gammat ? sliding_damping.data() : nullptr;
-  int32_t st = rsl_batch_step_contacts_params(chunk_model, body1.data(), body2.data(), n,
-                                              normal_force.data(), nullptr, &params, dt, nullptr,
-                                              chunk_state.data(), chunk_loads.data(), &report);
-  if (st != RSL_OK) {
-    size_t bad = report.first_failed < (uint64_t) n ? report.first_failed : 0;
-    library_error("rsl_batch_step_contacts_params", st, atom->tag[pending[bad].i],
-                  atom->tag[pending[bad].j]);
-  }
+  params.sliding_stiffness = chunk_kt ? ch.sliding_stiffness.data() : nullptr;
+  params.sliding_damping = chunk_gammat ? ch.sliding_damping.data() : nullptr;
+  return params;
+}
+
+// Steps the paired chunk in one rsl_batch_step_contacts_params call, then applies its loads in
+// neighbour-list order.
+void PairGranularRollslide::flush_paired()
+{
+  Chunk &ch = paired;
+  const int n = ch.n;
+  if (n == 0) return;
+  load_states(ch);
+  rsl_batch_report report;
+  rsl_batch_contact_params params = chunk_params(ch);
+  int32_t st = rsl_batch_step_contacts_params(chunk_model, ch.body1.data(), ch.body2.data(), n,
+                                              ch.normal_force.data(), nullptr, &params, dt, nullptr,
+                                              ch.state.data(), ch.loads.data(), &report);
+  if (st != RSL_OK) chunk_error("rsl_batch_step_contacts_params", st, report, ch);
+  rsl_contact_state *states = history->state.data();
   for (int k = 0; k < n; k++) {
-    const Pending &p = pending[k];
-    history->state[p.e] = chunk_state[k];
-    apply(p.i, p.j, p.del, chunk_loads[k].force1, chunk_loads[k].torque1, chunk_loads[k].torque2);
+    const Pending &p = ch.pending[k];
+    states[p.e] = ch.state[k];
+    apply(p.i, p.j, p.del, ch.loads[k].force1, ch.loads[k].torque1, ch.loads[k].torque2);
   }
-  npending = 0;
+  ch.n = 0;
 }
 
 void PairGranularRollslide::compute(int eflag, int vflag)
@@ -454,8 +504,17 @@ void PairGranularRollslide::compute(int eflag, int vflag)
   int **firstneigh = list->firstneigh;
   unsigned char *touch = history->touch.data();
   rsl_contact_state *states = history->state.data();
-  npending = 0;
+  direct.n = paired.n = 0;
   chunk_model = nullptr;
+  const int nlocal = atom->nlocal;
+  // Contacts between two local atoms go to the direct chunks, stepped from one sphere record
+  // per atom, except on steps that tally energy or virial (which need each pair's force).
+  const bool use_direct = !setup && !evflag;
+  if (use_direct) {
+    const int nall = nlocal + atom->nghost;
+    if ((int) spheres.size() < nall) spheres.resize(nall);
+    for (int k = 0; k < nall; k++) fill_sphere(spheres[k], x[k], v[k], omega[k], radius[k]);
+  }
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -523,37 +582,51 @@ void PairGranularRollslide::compute(int eflag, int vflag)
       const double gammat = c.xgammat * damp_normal_prefactor, kt = c.kt * a;
       if (!setup) {
         // Gathered for one batch call per chunk (one model, hence one law, per chunk).
-        if (m != chunk_model || npending == CHUNK) {
-          flush(eflag, vflag);
+        if (m != chunk_model) {
+          flush();
           chunk_model = m;
           chunk_kt = per_kt;
           chunk_gammat = per_gammat;
         }
-        const int k = npending++;
-        // flush() copies this contact's history into the chunk, up to CHUNK contacts later.
-        // The histories of all neighbour pairs are far larger than the cache, and that copy
-        // would wait on each one in turn: fetched now (for writing: flush() writes it back),
-        // it is in cache by then.
-        const char *h = reinterpret_cast<const char *>(&states[e]);
-        __builtin_prefetch(h, 1);
-        __builtin_prefetch(h + 64, 1);
-        __builtin_prefetch(h + sizeof(rsl_contact_state) - 1, 1);
-        Pending &p = pending[k];
-        p.i = i;
-        p.j = j;
-        p.e = e;
-        p.del[0] = delx;
-        p.del[1] = dely;
-        p.del[2] = delz;
-        fill_sphere(body1[k], x[i], v[i], omega[i], radi);
-        fill_sphere(body2[k], x[j], v[j], omega[j], radj);
-        normal_force[k] = Fntot;
-        sliding_stiffness[k] = kt;
-        sliding_damping[k] = gammat;
+        // The fields both kinds of chunk keep; returns the contact's slot. (Written once per
+        // kind below, so that each copy addresses its chunk's arrays directly.)
+        auto join = [&](Chunk &ch) {
+          const int k = ch.n++;
+          // The flush copies this contact's history into the chunk, up to CHUNK contacts
+          // later. The histories of all neighbour pairs are far larger than the cache, and that
+          // copy would wait on each one in turn: fetched now (for writing: the flush writes it
+          // back), it is in cache by then.
+          const char *h = reinterpret_cast<const char *>(&states[e]);
+          __builtin_prefetch(h, 1);
+          __builtin_prefetch(h + 64, 1);
+          __builtin_prefetch(h + sizeof(rsl_contact_state) - 1, 1);
+          Pending &p = ch.pending[k];
+          p.i = i;
+          p.j = j;
+          p.e = e;
+          p.del[0] = delx;
+          p.del[1] = dely;
+          p.del[2] = delz;
+          ch.normal_force[k] = Fntot;
+          ch.sliding_stiffness[k] = kt;
+          ch.sliding_damping[k] = gammat;
+          return k;
+        };
+        if (use_direct && j < nlocal) {
+          if (direct.n == CHUNK) flush_direct();
+          const int k = join(direct);
+          direct.pairs[2 * k] = (uint32_t) i;
+          direct.pairs[2 * k + 1] = (uint32_t) j;
+        } else {
+          if (paired.n == CHUNK) flush_paired();
+          const int k = join(paired);
+          fill_sphere(paired.body1[k], x[i], v[i], omega[i], radi);
+          fill_sphere(paired.body2[k], x[j], v[j], omega[j], radj);
+        }
         continue;
       }
       // Per contact: the setup pass (LAMMPS' setup step stores no history increment).
-      flush(eflag, vflag);
+      flush();
       rsl_contact_input in;
       memset(&in, 0, sizeof in);
       in.normal_force = Fntot;
@@ -577,11 +650,13 @@ void PairGranularRollslide::compute(int eflag, int vflag)
       apply(i, j, del, out.force1, out.torque1, out.torque2);
     }
   }
-  flush(eflag, vflag);
+  flush();
 }
 
 double PairGranularRollslide::memory_usage()
 {
-  return (double) CHUNK * (2 * sizeof(rsl_sphere) + 3 * sizeof(double) + sizeof(rsl_contact_state) +
-                           sizeof(rsl_batch_loads) + sizeof(Pending));
+  const double common = 3 * sizeof(double) + sizeof(rsl_contact_state) + sizeof(Pending);
+  return (double) CHUNK * (2 * common + 2 * sizeof(uint32_t) + 2 * sizeof(rsl_sphere) +
+                           sizeof(rsl_batch_loads)) +
+      (double) spheres.capacity() * sizeof(rsl_sphere);
 }

@@ -69,31 +69,56 @@ class PairGranularRollslide : public Pair {
   int freeze_group_bit = 0;
   double dt = 0.0;
 
-  // One chunk of contacts for rsl_batch_step_contacts.
-  static constexpr int CHUNK = 128;
+  // Contacts are stepped in chunks of up to CHUNK, one library call per chunk, one model (hence
+  // one law) per chunk. Two kinds of chunk are filled side by side:
+  // - `direct`: contacts between two local atoms, stepped by rsl_batch_step_params
+  //   (particle-major) from the step's sphere array (`spheres`, one record per local and ghost
+  //   atom, filled once per step), the library adding the loads straight into atom->f and
+  //   atom->torque;
+  // - `paired`: contacts with a ghost atom j (whose loads only atom i takes, as the list is
+  //   newton off), and every contact of a step that tallies energy or virial (which needs
+  //   each pair's force), stepped by rsl_batch_step_contacts_params from two sphere records per
+  //   contact, the loads applied here.
+  static constexpr int CHUNK = 512;
   struct Pending {
     int i, j;
     bigint e;
     double del[3];
   };
-  // The chunk's contacts, pending[0..npending): a fixed array written field by field (a
-  // push_back of a brace-built Pending made GCC assemble it on the stack and copy it with wider
-  // loads than its stores, a store-forwarding stall that took a fifth of compute()'s samples).
-  std::vector<Pending> pending;
-  int npending = 0;
-  std::vector<rsl_sphere> body1, body2;
-  std::vector<double> normal_force;
-  // Per-contact k_t (mindlin) and gamma_t (every damping model but velocity) of the chunk.
-  std::vector<double> sliding_stiffness, sliding_damping;
+  struct Chunk {
+    // The chunk's contacts, pending[0..n): a fixed array written field by field (a push_back of
+    // a brace-built Pending made GCC assemble it on the stack and copy it with wider loads than
+    // its stores, a store-forwarding stall that took a fifth of compute()'s samples).
+    std::vector<Pending> pending;
+    int n = 0;
+    std::vector<uint32_t> pairs;            // direct: atom indices i, j per contact
+    std::vector<rsl_sphere> body1, body2;   // paired: the two sphere records per contact
+    std::vector<double> normal_force;
+    // Per-contact k_t (mindlin) and gamma_t (every damping model but velocity).
+    std::vector<double> sliding_stiffness, sliding_damping;
+    std::vector<rsl_contact_state> state;
+    std::vector<rsl_batch_loads> loads;     // paired only
+    void resize(bool direct);
+  };
+  Chunk direct, paired;
+  std::vector<rsl_sphere> spheres;          // per local and ghost atom, this step
   bool chunk_kt = false, chunk_gammat = false;
-  std::vector<rsl_contact_state> chunk_state;
-  std::vector<rsl_batch_loads> chunk_loads;
   const rsl_model *chunk_model = nullptr;
 
   Coeffs &at(int i, int j) { return coeffs[i * (ntypes + 1) + j]; }
   void allocate();
   void free_models();
-  void flush(int eflag, int vflag);
+  rsl_batch_contact_params chunk_params(Chunk &ch) const;
+  void load_states(Chunk &ch);
+  [[noreturn]] void chunk_error(const char *call, int32_t status, const rsl_batch_report &report,
+                                const Chunk &ch);
+  void flush_direct();
+  void flush_paired();
+  void flush()
+  {
+    flush_direct();
+    flush_paired();
+  }
   void apply(int i, int j, const double del[3], const rsl_vec3 &force1, const rsl_vec3 &torque1,
              const rsl_vec3 &torque2);
 };
