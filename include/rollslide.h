@@ -753,11 +753,12 @@ int32_t rsl_batch_step(const struct rsl_model *model,
 // `rsl_batch_step_contacts_params` takes them): contact `c` (particles `pairs[2c]` and
 // `pairs[2c+1]`) uses `params->sliding_stiffness[c]` and `params->sliding_damping[c]` (each
 // array NULL for the model's value) instead of the model's `k_t` and `gamma_t`, e.g. the
-// contact-area-dependent coefficients of Hertz-Mindlin laws. A contact whose `k_t` or `gamma_t` is negative or not
-// finite is skipped as invalid (status `RSL_ERR_INVALID_ARGUMENT` or `RSL_ERR_NON_FINITE`, as
-// `rsl_contact_step` gives). In double precision the results equal `rsl_contact_step`'s with
-// `RSL_INPUT_SLIDING_STIFFNESS` and `RSL_INPUT_SLIDING_DAMPING` bit for bit. Without
-// per-contact arrays it runs the kernels of `rsl_batch_step`.
+// contact-area-dependent coefficients of Hertz-Mindlin laws. A contact whose `k_t` or
+// `gamma_t` is negative or not finite is skipped as invalid (status `RSL_ERR_INVALID_ARGUMENT`
+// or `RSL_ERR_NON_FINITE`, as `rsl_contact_step` gives). In double precision the results equal
+// `rsl_contact_step`'s with `RSL_INPUT_SLIDING_STIFFNESS` and `RSL_INPUT_SLIDING_DAMPING` bit
+// for bit, added to `force` and `torque` in contact order. Without per-contact arrays it runs
+// the kernels of `rsl_batch_step`.
 //
 // Preconditions (the behaviour is undefined if they do not hold):
 // As `rsl_batch_step`; `params` NULL or readable, its non-NULL arrays holding `n_contacts`
