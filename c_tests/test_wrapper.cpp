@@ -183,11 +183,53 @@ static void test_batch_reports_skipped_contacts_and_throws_call_errors() {
     EXPECT(thrown);
 }
 
+// The batch calls with per-contact sliding coefficients give the C calls' bits; a contact with
+// a negative k_t is reported as skipped, not thrown.
+static void test_batch_params_give_the_c_bits() {
+    const rollslide::model m = lammps_model();
+    rsl_sphere particles[3] = {sphere(0, 0, 0, 0.1, 0, 1.0), sphere(1.9, 0, 0, 0, 0, 1.0),
+                               sphere(0, 1.9, 0, 0, 1.0, 1.0)};
+    const uint32_t pairs[4] = {0, 1, 0, 2};
+    const double f_n[2] = {5.0, 4.0};
+    double k_t[2] = {3e4, 5e4};
+    const double gamma_t[2] = {2.0, 0.5};
+    const rsl_batch_contact_params params = {k_t, gamma_t};
+    rsl_contact_state s_cpp[2] = {rollslide::fresh_state(), rollslide::fresh_state()};
+    rsl_contact_state s_c[2] = {rollslide::fresh_state(), rollslide::fresh_state()};
+    rsl_vec3 f_cpp[3], t_cpp[3], f_c[3], t_c[3];
+    std::memset(f_cpp, 0, sizeof f_cpp);
+    std::memset(t_cpp, 0, sizeof t_cpp);
+    std::memset(f_c, 0, sizeof f_c);
+    std::memset(t_c, 0, sizeof t_c);
+    rsl_batch_report r = m.batch_step(particles, 3, pairs, 2, f_n, nullptr, 1e-4, s_cpp, f_cpp,
+                                      t_cpp, nullptr, &params);
+    EXPECT(r.processed == 2 && r.failed == 0);
+    EXPECT(rsl_batch_step_params(m.get(), particles, 3, pairs, 2, f_n, nullptr, &params, 1e-4,
+                                 nullptr, s_c, f_c, t_c, nullptr) == RSL_OK);
+    EXPECT(std::memcmp(f_cpp, f_c, sizeof f_c) == 0 && std::memcmp(t_cpp, t_c, sizeof t_c) == 0);
+    EXPECT(same_bits(s_cpp[0], s_c[0]) && same_bits(s_cpp[1], s_c[1]));
+
+    const rsl_sphere body1[2] = {particles[0], particles[0]};
+    const rsl_sphere body2[2] = {particles[1], particles[2]};
+    rsl_batch_loads out_cpp[2], out_c[2];
+    k_t[1] = -1.0;
+    r = m.batch_step_contacts(body1, body2, 2, f_n, nullptr, 1e-4, s_cpp, out_cpp, nullptr,
+                              &params);
+    EXPECT(r.processed == 1 && r.failed == 1 && r.first_failed == 1);
+    EXPECT(r.first_status == RSL_ERR_INVALID_ARGUMENT);
+    EXPECT(rsl_batch_step_contacts_params(m.get(), body1, body2, 2, f_n, nullptr, &params, 1e-4,
+                                          nullptr, s_c, out_c, nullptr) ==
+           RSL_ERR_INVALID_ARGUMENT);
+    EXPECT(std::memcmp(&out_cpp[0], &out_c[0], sizeof out_c[0]) == 0);
+    EXPECT(same_bits(s_cpp[0], s_c[0]) && same_bits(s_cpp[1], s_c[1]));
+}
+
 int main() {
     test_model_ownership();
     test_errors_are_exceptions();
     test_steps_give_the_c_bits();
     test_batch_reports_skipped_contacts_and_throws_call_errors();
+    test_batch_params_give_the_c_bits();
     if (failures != 0) {
         std::fprintf(stderr, "%d failure(s)\n", failures);
         return 1;

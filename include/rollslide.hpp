@@ -246,7 +246,8 @@ public:
                       "rsl_contact_step_wall_accumulate");
     }
 
-    /// Steps many contacts (particle-major, see rsl_batch_step). A contact with bad input is
+    /// Steps many contacts (particle-major, see rsl_batch_step; with `params`, per-contact
+    /// sliding stiffness and damping, rsl_batch_step_params). A contact with bad input is
     /// skipped and the others are processed: that is reported in the returned report
     /// (`failed`, `first_failed`, `first_status`), not thrown. A call-level error (NULL array,
     /// bad time step or options), which processes nothing, throws.
@@ -254,29 +255,32 @@ public:
                                 const uint32_t *pairs, std::size_t n_contacts,
                                 const double *normal_force, const double *normal_stiffness,
                                 double dt, rsl_contact_state *states, rsl_vec3 *force,
-                                rsl_vec3 *torque,
-                                const rsl_batch_options *options = nullptr) const {
+                                rsl_vec3 *torque, const rsl_batch_options *options = nullptr,
+                                const rsl_batch_contact_params *params = nullptr) const {
         rsl_batch_report report;
-        int32_t status =
-            rsl_batch_step(handle_, particles, n_particles, pairs, n_contacts, normal_force,
-                           normal_stiffness, dt, options, states, force, torque, &report);
+        int32_t status = rsl_batch_step_params(handle_, particles, n_particles, pairs,
+                                               n_contacts, normal_force, normal_stiffness,
+                                               params, dt, options, states, force, torque,
+                                               &report);
         if (status != RSL_OK && report.failed == 0) {
-            detail::fail(status, "rsl_batch_step");
+            detail::fail(status, "rsl_batch_step_params");
         }
         return report;
     }
-    /// Steps many contacts (contact-major, see rsl_batch_step_contacts); errors as batch_step.
+    /// Steps many contacts (contact-major, see rsl_batch_step_contacts; with `params`,
+    /// rsl_batch_step_contacts_params); errors as batch_step.
     rsl_batch_report batch_step_contacts(const rsl_sphere *body1, const rsl_sphere *body2,
                                          std::size_t n, const double *normal_force,
                                          const double *normal_stiffness, double dt,
                                          rsl_contact_state *states, rsl_batch_loads *out,
-                                         const rsl_batch_options *options = nullptr) const {
+                                         const rsl_batch_options *options = nullptr,
+                                         const rsl_batch_contact_params *params = nullptr) const {
         rsl_batch_report report;
-        int32_t status = rsl_batch_step_contacts(handle_, body1, body2, n, normal_force,
-                                                 normal_stiffness, dt, options, states, out,
-                                                 &report);
+        int32_t status = rsl_batch_step_contacts_params(handle_, body1, body2, n, normal_force,
+                                                        normal_stiffness, params, dt, options,
+                                                        states, out, &report);
         if (status != RSL_OK && report.failed == 0) {
-            detail::fail(status, "rsl_batch_step_contacts");
+            detail::fail(status, "rsl_batch_step_contacts_params");
         }
         return report;
     }
