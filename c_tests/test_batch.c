@@ -428,11 +428,14 @@ void test_batch_step_params(void) {
     CHECK(memcmp(&before[1], &sb[1], sizeof sb[1]) != 0);
     /* a params array of the wrong alignment is a call-level error: nothing processed */
     memcpy(before, sb, sizeof sb);
+    rsl_vec3 f_before[NP];
+    memcpy(f_before, fb, sizeof fb);
     rsl_batch_contact_params odd = {(const double *)((const char *)kt + 1), NULL};
     CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &odd, dt, NULL, sb, fb, tb,
                                        &rep),
                  RSL_ERR_MISALIGNED);
     CHECK(rep.processed == 0);
     CHECK(memcmp(before, sb, sizeof sb) == 0);
+    CHECK(memcmp(f_before, fb, sizeof fb) == 0);
     rsl_model_free(m);
 }
