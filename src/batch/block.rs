@@ -23,7 +23,8 @@
 
 use super::{
     geometry_in, lane_bits, needs_normal_stiffness, scene, step_error, BatchReport, Lanes,
-    PairLoads, StateSlot, StepAccess, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
+    LoadsSlot, PairLoads, StateSlot, StepAccess, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING,
+    TOUCH_AHEAD,
 };
 use crate::batch::{Scene, SphereSlot};
 use crate::decompose::Sphere;
@@ -82,6 +83,24 @@ pub trait GroupCopy<P, S>: Copy {
         slip: &[u32; GROUP],
         states: &mut [S; GROUP],
     );
+    /// `out[k]` = the loads in slot `k` of `rows` (force 1, torque 1, torque 2), as
+    /// [`LoadsSlot::set`] writes them (the default).
+    #[inline(always)]
+    fn store_loads<O: LoadsSlot>(self, rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
+        store_loads_by_value(rows, out);
+    }
+}
+
+/// [`GroupCopy::store_loads`] slot by slot, through [`LoadsSlot::set`].
+#[inline(always)]
+pub(crate) fn store_loads_by_value<O: LoadsSlot>(rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
+    for (k, slot) in out.iter_mut().enumerate() {
+        slot.set(&PairLoads {
+            force1: [rows[0][k], rows[1][k], rows[2][k]],
+            torque1: [rows[3][k], rows[4][k], rows[5][k]],
+            torque2: [rows[6][k], rows[7][k], rows[8][k]],
+        });
+    }
 }
 
 /// [`GroupCopy`] value by value, for any body and state type.
@@ -181,6 +200,10 @@ type Row = [f64; BLOCK];
 /// The rows of a 3-vector quantity.
 type Rows3 = [Row; 3];
 
+/// The loads of a block's contacts, a row per component: force on body 1 (x, y, z), torque on
+/// body 1, torque on body 2 (N and N m, global frame); slot `k` is the block's contact `k`.
+pub type LoadRows = [[f64; BLOCK]; 9];
+
 /// One block of contacts, a row per quantity (inputs, then the results of the step).
 ///
 /// Aligned to a cache line, in declaration order (`repr(C)`; every field before `slip` is a
@@ -205,7 +228,7 @@ struct Block {
     /// The state in [`STATE_WORDS`] order. The step writes the new state over it.
     state: [Row; STATE_WORDS],
     /// Force on body 1 (3), torque on body 1 (3), torque on body 2 (3).
-    loads: [Row; 9],
+    loads: LoadRows,
     /// `SLIP_*` bits per contact.
     slip: [u32; BLOCK],
     /// Bit `i`: contact `i`'s particle indices were in range.
@@ -825,12 +848,7 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
         }
         g += GROUP;
     }
-    let l = &b.loads;
-    access.emit_run(c0, ok, |i| PairLoads {
-        force1: [l[0][i], l[1][i], l[2][i]],
-        torque1: [l[3][i], l[4][i], l[5][i]],
-        torque2: [l[6][i], l[7][i], l[8][i]],
-    });
+    access.emit_block(copy, c0, ok, &b.loads);
 }
 
 /// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:

@@ -30,8 +30,8 @@ pub mod history;
 pub mod lanes;
 pub mod scene;
 
-pub use block::{step_kernel, GroupCopy, GroupRow, PortableCopy};
-pub(crate) use block::{BODY_WORDS, GROUP, STATE_WORDS};
+pub use block::{step_kernel, GroupCopy, GroupRow, LoadRows, PortableCopy};
+pub(crate) use block::{store_loads_by_value, BODY_WORDS, GROUP, STATE_WORDS};
 pub use lanes::{Lanes, MAX_LANES};
 pub use scene::Scene;
 
@@ -181,6 +181,12 @@ pub struct PairLoads {
 pub trait LoadsSlot {
     /// Writes the loads of a successful step.
     fn set(&mut self, loads: &PairLoads);
+    /// The slot as nine doubles in place (force 1, torque 1, torque 2), when it is laid out
+    /// so: a SIMD delivery then writes a group of slots by transposition. `None` by default.
+    #[inline(always)]
+    fn words_mut(&mut self) -> Option<&mut [f64; 9]> {
+        None
+    }
 }
 
 impl LoadsSlot for PairLoads {
@@ -314,6 +320,29 @@ pub trait StepAccess: Gather {
             self.emit(c0 + k, &loads(k));
             bits &= bits - 1;
         }
+    }
+    /// Delivers the loads of a block, contacts `c0 + k` for each bit `k` of `ok`, in order,
+    /// from its [`LoadRows`] (slot `k` of each row). The default goes through
+    /// [`StepAccess::emit_run`].
+    #[inline(always)]
+    fn emit_block<X: GroupCopy<Self::P, Self::State>>(
+        &mut self,
+        _copy: X,
+        c0: usize,
+        ok: u64,
+        loads: &LoadRows,
+    ) {
+        self.emit_run(c0, ok, |i| load_at(loads, i));
+    }
+}
+
+/// The loads of slot `i` of a block's [`LoadRows`].
+#[inline(always)]
+fn load_at(l: &LoadRows, i: usize) -> PairLoads {
+    PairLoads {
+        force1: [l[0][i], l[1][i], l[2][i]],
+        torque1: [l[3][i], l[4][i], l[5][i]],
+        torque2: [l[6][i], l[7][i], l[8][i]],
     }
 }
 
@@ -722,6 +751,26 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     #[inline(always)]
     fn emit(&mut self, c: usize, l: &PairLoads) {
         self.out[c].set(l);
+    }
+    /// Each group of [`block::GROUP`] valid contacts has its loads written by `copy`
+    /// ([`GroupCopy::store_loads`]), the others contact by contact.
+    #[inline(always)]
+    fn emit_block<X: GroupCopy<P, S>>(&mut self, copy: X, c0: usize, ok: u64, loads: &LoadRows) {
+        let whole = lane_bits(block::GROUP);
+        for g in (0..loads[0].len()).step_by(block::GROUP) {
+            let bits = (ok >> g) & whole;
+            if bits == whole {
+                let rows = loads.each_ref().map(|row| {
+                    <&[f64; block::GROUP]>::try_from(&row[g..g + block::GROUP]).expect("a group")
+                });
+                let out: &mut [O; block::GROUP] = (&mut self.out[c0 + g..c0 + g + block::GROUP])
+                    .try_into()
+                    .expect("a group of outputs");
+                copy.store_loads(rows, out);
+            } else if bits != 0 {
+                self.emit_run(c0 + g, bits, |k| load_at(loads, g + k));
+            }
+        }
     }
     #[inline(always)]
     fn group_refs(&self, first: usize, n: usize) -> GroupRefs<'_, P, S> {

@@ -289,6 +289,16 @@ impl LoadsSlot for rsl_batch_loads {
             torque2: vec(l.torque2),
         };
     }
+    #[inline(always)]
+    fn words_mut(&mut self) -> Option<&mut [f64; 9]> {
+        const _: () = assert!(std::mem::size_of::<rsl_batch_loads>() == 72);
+        const _: () = assert!(std::mem::offset_of!(rsl_batch_loads, torque1) == 24);
+        const _: () = assert!(std::mem::offset_of!(rsl_batch_loads, torque2) == 48);
+        // SAFETY: `rsl_batch_loads` is `repr(C)`: three `rsl_vec3` (each `repr(C)`, three
+        // `f64`) at offsets 0, 24, 48 and size 72 (asserted above), the layout of `[f64; 9]`
+        // with the same alignment. The result borrows `self` mutably.
+        Some(unsafe { &mut *(self as *mut rsl_batch_loads).cast::<[f64; 9]>() })
+    }
 }
 
 impl DecompositionSlot for rsl_decomposition {

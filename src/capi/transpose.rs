@@ -14,7 +14,9 @@
 use super::contact::rsl_contact_state;
 use super::history::Record;
 use super::types::rsl_sphere;
-use crate::batch::{GroupCopy, GroupRow, BODY_WORDS, GROUP, STATE_WORDS};
+use crate::batch::{
+    store_loads_by_value, GroupCopy, GroupRow, LoadsSlot, BODY_WORDS, GROUP, STATE_WORDS,
+};
 use std::mem::{offset_of, size_of};
 
 // The transpositions read and write these structs as arrays of doubles: a sphere is its
@@ -365,6 +367,26 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
         }
         set_slip_flags(states, slip);
     }
+
+    #[inline(always)]
+    fn store_loads<O: LoadsSlot>(self, rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
+        let mut dst = [std::ptr::null_mut::<f64>(); GROUP];
+        for (d, slot) in dst.iter_mut().zip(out.iter_mut()) {
+            match slot.words_mut() {
+                Some(words) => *d = words.as_mut_ptr(),
+                None => return store_loads_by_value(rows, out),
+            }
+        }
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8] = rows;
+        // SAFETY: an `Avx512Copy` exists only on a CPU with AVX-512 F and DQ
+        // (`Avx512Copy::assume`); each pointer comes from a distinct `&mut` slot of nine
+        // doubles (so they do not overlap each other or the rows): words 0..8 and 1..9 are
+        // inside it (1..8 written twice with the same values).
+        unsafe {
+            avx512::rows_to_words([r0, r1, r2, r3, r4, r5, r6, r7], dst, 0);
+            avx512::rows_to_words([r1, r2, r3, r4, r5, r6, r7, r8], dst, 1);
+        }
+    }
 }
 
 /// Packed histories ([`Record`]) in windows of four words, each moved by a 4 x 4 AVX2
@@ -452,6 +474,11 @@ macro_rules! record_copy {
             ) {
                 // SAFETY: as in `states`.
                 unsafe { rows_to_records(rows, states) }
+            }
+
+            #[inline(always)]
+            fn store_loads<O: LoadsSlot>(self, rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
+                GroupCopy::<rsl_sphere, rsl_contact_state>::store_loads(self, rows, out)
             }
         }
     };
@@ -563,6 +590,54 @@ mod tests {
             eprintln!(
                 "transposition test: {ran} of the 2 SIMD copies ran (this CPU lacks the others)"
             );
+        }
+    }
+
+    /// The bits of the nine doubles of each output slot that `copy` writes from a group's load
+    /// rows.
+    fn loads_written<X: GroupCopy<rsl_sphere, rsl_contact_state>>(copy: X) -> Vec<u64> {
+        let rows: [GroupRow; 9] =
+            std::array::from_fn(|q| std::array::from_fn(|k| value(2000 + 10 * k + q)));
+        let sentinel = vec3(9999);
+        let mut out = [crate::capi::batch::rsl_batch_loads {
+            force1: sentinel,
+            torque1: sentinel,
+            torque2: sentinel,
+        }; GROUP];
+        copy.store_loads(rows.each_ref(), &mut out);
+        out.iter()
+            .flat_map(|l| [l.force1, l.torque1, l.torque2])
+            .flat_map(|v| [v.x, v.y, v.z])
+            .map(f64::to_bits)
+            .collect()
+    }
+
+    #[test]
+    fn loads_are_written_as_the_portable_copy_writes_them() {
+        let expected = loads_written(PortableCopy);
+        // Slot k, word q (force 1, torque 1, torque 2) is row q's slot k.
+        for k in 0..GROUP {
+            for q in 0..9 {
+                assert_eq!(expected[9 * k + q], value(2000 + 10 * k + q).to_bits());
+            }
+        }
+        if Simd::Avx2.available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            assert_eq!(
+                loads_written(unsafe { Avx2Copy::assume() }),
+                expected,
+                "AVX2"
+            );
+        }
+        if Simd::Avx512.available() {
+            // SAFETY: the CPU has AVX-512 F and DQ (checked just above).
+            assert_eq!(
+                loads_written(unsafe { Avx512Copy::assume() }),
+                expected,
+                "AVX-512"
+            );
+        } else {
+            eprintln!("load transposition test: this CPU lacks AVX-512 F and DQ");
         }
     }
 }
