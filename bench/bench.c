@@ -1,14 +1,16 @@
 /* Benchmark driver of rollslide's batch kernels (run by `cargo bench --bench batch`).
  *
  * Usage: bench_driver [CONTACTS [REPS]] [--workload=A|B] [--slip=F] [--only=SUBSTRING]
- *                     [--set=NAME]
+ *                     [--set=NAME] [--level=auto|scalar|avx2|avx512]
  *   CONTACTS  number of contacts (default 1200000); REPS timed calls per row (default 5; the
  *             row's number is the fastest call). --workload: A (default) or B, below.
  *             --slip: fraction of the contacts that start beyond each law's limit (default
  *             0.25; see Histories). --only: measure only the rows whose name contains
  *             SUBSTRING, or only the row NAME with --only='NAME$' (the baselines and floors
  *             always run; for profiling). --set: only the physics set NAME (full, rolltwist
- *             or sliding, below).
+ *             or sliding, below). --level: the SIMD level of the rows that otherwise run
+ *             at the best one (history_, contacts_, decompose_; default auto), e.g. to time the
+ *             contact-major call of an AVX2 host on an AVX-512 one.
  *
  * Workloads (both: particle radii 0.49-0.50, centres jittered by +-1e-3, every listed contact
  * overlapping by 0.007-0.033, normal force k_n * overlap):
@@ -87,12 +89,12 @@
  *                   l = scalar|avx2|avx512 (each level rsl_batch_simd_support reports)
  *   history_<p>_<l>  rsl_batch_step_history (particle-major, packed histories of
  *                   rsl_model_history_size doubles, packed from the states untimed) at the
- *                   best level; the records are unpacked into the states for the diff (the
+ *                   best level (or --level's); the records are unpacked into the states for the diff (the
  *                   fields a record does not keep, and the slip flags, taken from the baseline)
- *   contacts_<p>_<l>  rsl_batch_step_contacts (contact-major) at the best level (RSL_SIMD_AUTO;
- *                   l is the level that ran); bodies pre-gathered per contact (untimed); its
+ *   contacts_<p>_<l>  rsl_batch_step_contacts (contact-major) at the best level (RSL_SIMD_AUTO,
+ *                   or --level's; l is the level that ran); bodies pre-gathered per contact (untimed); its
  *                   loads are added to the accumulators after the call (untimed) for the diff
- *   decompose_<p>_<l>  rsl_batch_decompose (particle-major) at the best level: the kinematic
+ *   decompose_<p>_<l>  rsl_batch_decompose (particle-major) at the best level (or --level's): the kinematic
  *                   decomposition only, no laws, no state (group full; not the baseline's work)
  *   <row>[noslip]   the baselines, percontact_acc_c and batch_<p>_<auto level> again on the
  *                   no-slip histories (the same springs, those beyond a limit scaled below it:
@@ -1043,6 +1045,8 @@ static rsl_model *make_model(int32_t preset, int sliding, int rolling, int twist
 }
 
 static const char *LEVEL[4] = {"auto", "scalar", "avx2", "avx512"};
+/* --level=NAME: the SIMD level of the rows that otherwise run at the best one. */
+static uint32_t BEST_LEVEL = RSL_SIMD_AUTO;
 
 int main(int argc, char **argv) {
     size_t nc = 1200000;
@@ -1061,6 +1065,15 @@ int main(int argc, char **argv) {
             ONLY = argv[a] + 7;
         } else if (strncmp(argv[a], "--set=", 6) == 0) {
             ONLY_SET = argv[a] + 6;
+        } else if (strncmp(argv[a], "--level=", 8) == 0) {
+            uint32_t lv = 4;
+            for (uint32_t l = 0; l < 4; l++)
+                if (strcmp(argv[a] + 8, LEVEL[l]) == 0) lv = l;
+            if (lv == 4) {
+                fprintf(stderr, "--level must be auto, scalar, avx2 or avx512\n");
+                return 2;
+            }
+            BEST_LEVEL = lv;
         } else if (argv[a][0] == '-') {
             fprintf(stderr, "unknown option %s\n", argv[a]);
             return 2;
@@ -1195,7 +1208,7 @@ int main(int argc, char **argv) {
                 }
                 row(g, name, t, 1, &s);
             }
-            OPTS.simd = RSL_SIMD_AUTO;
+            OPTS.simd = BEST_LEVEL;
             snprintf(name, sizeof name, "history_%s", p);
             if (want(name)) {
                 MODE = HISTORY;
@@ -1217,6 +1230,7 @@ int main(int argc, char **argv) {
         /* decomposition and the other scenes: f64, in the group they are set against */
         if (set == FULL) {
             memset(&OPTS, 0, sizeof OPTS);
+            OPTS.simd = BEST_LEVEL;
             for (int prec = 0; prec < 2; prec++) {
                 OPTS.precision = prec ? RSL_PRECISION_F32 : RSL_PRECISION_F64;
                 MODE = DECOMPOSE;

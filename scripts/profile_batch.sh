@@ -8,8 +8,8 @@
 #     WORKLOAD  A or B (default A); CONTACTS (default 1200000)
 #
 # Needs perf and addr2line (binutils). Prints the share of the kernel's samples per part, then
-# the share that lands on instructions addressing the stack frame (rows and spilled values) and
-# the size of the hottest kernel's hot code.
+# the share that lands on instructions addressing the stack frame (rows and spilled values), in
+# all and per part, and the size of the hottest kernel's hot code.
 set -eu
 row=${1:-batch_f64_avx512}
 workload=${2:-A}
@@ -29,9 +29,10 @@ esac
 perf script -i "$out/perf.data" -F ip,sym 2>/dev/null | awk -v s="$sym" '$0 ~ s {print $1}' |
   sort | uniq -c >"$out/ips"
 awk '{print "0x" $2}' "$out/ips" | addr2line -e "$out/driver" -i -f -C -a >"$out/lines"
-python3 - "$out/ips" "$out/lines" <<'EOF'
+python3 - "$out/ips" "$out/lines" "$out/parts" <<'EOF'
 import collections, sys
 counts = {int(a, 16): int(c) for c, a in (l.split() for l in open(sys.argv[1]))}
+where = open(sys.argv[3], "w")
 blocks, cur = [], None
 for line in open(sys.argv[2]):
     line = line.rstrip("\n")
@@ -58,6 +59,7 @@ for addr, lines in blocks:
         else:
             part = "row loads and stores" if part == "step_lanes" else "reading the structs"
     parts[part] += counts.get(addr, 0)
+    print(f"{addr:#x} {part}", file=where)
 total = sum(parts.values()) or 1
 for part, n in parts.most_common():
     print(f"{100 * n / total:5.1f}%  {part}")
@@ -79,9 +81,10 @@ print(f"{s:#x} {s + z:#x}")' "$out/driver" "$sym")
 set -- $hot
 objdump -d --no-show-raw-insn -M intel --start-address="$1" --stop-address="$2" "$out/driver" \
   >"$out/hot.s"
-python3 - "$out/ips" "$out/hot.s" <<'EOF'
-import re, sys
+python3 - "$out/ips" "$out/hot.s" "$out/parts" <<'EOF'
+import collections, re, sys
 counts = {int(a, 16): int(c) for c, a in (l.split() for l in open(sys.argv[1]))}
+part_of = {int(a, 16): p for a, p in (l.rstrip("\n").split(" ", 1) for l in open(sys.argv[3]))}
 insns = {}
 for line in open(sys.argv[2]):
     m = re.match(r"\s+([0-9a-f]+):\s+(.*)", line)
@@ -93,7 +96,15 @@ hits = {a: c for a, c in counts.items() if a in insns}
 total = sum(hits.values()) or 1
 on_stack = sum(c for a, c in hits.items() if stack(insns[a]))
 print(f"hottest kernel: {len(insns)} instructions, {sum(map(stack, insns.values()))} address the stack;")
-print(f"{100 * on_stack / total:.1f}% of its samples land on those")
+print(f"{100 * on_stack / total:.1f}% of its samples land on those; by part (share of the")
+print("kernel's samples on the part's stack accesses, and of the part's own samples):")
+mine, spilled = collections.Counter(), collections.Counter()
+for a, c in hits.items():
+    mine[part_of.get(a, "other")] += c
+    if stack(insns[a]):
+        spilled[part_of.get(a, "other")] += c
+for part, n in spilled.most_common():
+    print(f"  {100 * n / total:5.1f}%  {part} ({100 * n / mine[part]:.0f}% of its samples)")
 # Its hot code: the instructions in the 64-byte lines that have samples (a lower bound of what
 # runs; with the lines next to those, a closer estimate), to set against the loop size at which
 # this core's front end slows down (bench/code_size.c measures it).

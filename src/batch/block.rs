@@ -95,11 +95,7 @@ pub trait GroupCopy<P, S>: Copy {
 #[inline(always)]
 pub(crate) fn store_loads_by_value<O: LoadsSlot>(rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
     for (k, slot) in out.iter_mut().enumerate() {
-        slot.set(&PairLoads {
-            force1: [rows[0][k], rows[1][k], rows[2][k]],
-            torque1: [rows[3][k], rows[4][k], rows[5][k]],
-            torque2: [rows[6][k], rows[7][k], rows[8][k]],
-        });
+        slot.set(&PairLoads::in_slot(rows, k));
     }
 }
 

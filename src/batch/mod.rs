@@ -189,6 +189,22 @@ pub trait LoadsSlot {
     }
 }
 
+impl PairLoads {
+    /// The loads in slot `i` of nine load rows, one per component: force on body 1 (rows
+    /// 0..3), torque on body 1 (3..6), torque on body 2 (6..9).
+    #[inline(always)]
+    pub(crate) fn in_slot<R: std::ops::Index<usize, Output = f64>>(
+        rows: [&R; 9],
+        i: usize,
+    ) -> Self {
+        PairLoads {
+            force1: [rows[0][i], rows[1][i], rows[2][i]],
+            torque1: [rows[3][i], rows[4][i], rows[5][i]],
+            torque2: [rows[6][i], rows[7][i], rows[8][i]],
+        }
+    }
+}
+
 impl LoadsSlot for PairLoads {
     #[inline(always)]
     fn set(&mut self, loads: &PairLoads) {
@@ -339,11 +355,7 @@ pub trait StepAccess: Gather {
 /// The loads of slot `i` of a block's [`LoadRows`].
 #[inline(always)]
 fn load_at(l: &LoadRows, i: usize) -> PairLoads {
-    PairLoads {
-        force1: [l[0][i], l[1][i], l[2][i]],
-        torque1: [l[3][i], l[4][i], l[5][i]],
-        torque2: [l[6][i], l[7][i], l[8][i]],
-    }
+    PairLoads::in_slot(l.each_ref(), i)
 }
 
 /// What the decomposition kernels read and write.

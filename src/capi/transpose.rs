@@ -268,6 +268,18 @@ fn set_slip_flags(states: &mut [rsl_contact_state; GROUP], slip: &[u32; GROUP]) 
     }
 }
 
+/// A pointer to the nine doubles of each output slot, or `None` when the slot type is not
+/// laid out as nine doubles ([`LoadsSlot::words_mut`]); the pointers come from distinct `&mut`
+/// slots, so they do not overlap.
+#[inline(always)]
+fn load_words<O: LoadsSlot>(out: &mut [O; GROUP]) -> Option<[*mut f64; GROUP]> {
+    let mut dst = [std::ptr::null_mut::<f64>(); GROUP];
+    for (d, slot) in dst.iter_mut().zip(out.iter_mut()) {
+        *d = slot.words_mut()?.as_mut_ptr();
+    }
+    Some(dst)
+}
+
 #[cfg(target_arch = "x86_64")]
 impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
     #[inline(always)]
@@ -318,6 +330,23 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
             avx2::rows_to_words([r9, r10, r11, r12], dst, 9);
         }
         set_slip_flags(states, slip);
+    }
+
+    #[inline(always)]
+    fn store_loads<O: LoadsSlot>(self, rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
+        let Some(dst) = load_words(out) else {
+            return store_loads_by_value(rows, out);
+        };
+        let [r0, r1, r2, r3, r4, r5, r6, r7, r8] = rows;
+        // SAFETY: an `Avx2Copy` exists only on a CPU with AVX2 (`Avx2Copy::assume`); each
+        // pointer comes from a distinct `&mut` slot of nine doubles (`load_words`, so they do
+        // not overlap each other or the rows): words 0..4, 4..8 and 5..9 are inside it (5..8
+        // written twice with the same values).
+        unsafe {
+            avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
+            avx2::rows_to_words([r4, r5, r6, r7], dst, 4);
+            avx2::rows_to_words([r5, r6, r7, r8], dst, 5);
+        }
     }
 }
 
@@ -370,13 +399,9 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
 
     #[inline(always)]
     fn store_loads<O: LoadsSlot>(self, rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
-        let mut dst = [std::ptr::null_mut::<f64>(); GROUP];
-        for (d, slot) in dst.iter_mut().zip(out.iter_mut()) {
-            match slot.words_mut() {
-                Some(words) => *d = words.as_mut_ptr(),
-                None => return store_loads_by_value(rows, out),
-            }
-        }
+        let Some(dst) = load_words(out) else {
+            return store_loads_by_value(rows, out);
+        };
         let [r0, r1, r2, r3, r4, r5, r6, r7, r8] = rows;
         // SAFETY: an `Avx512Copy` exists only on a CPU with AVX-512 F and DQ
         // (`Avx512Copy::assume`); each pointer comes from a distinct `&mut` slot of nine
