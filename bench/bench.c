@@ -89,13 +89,16 @@
  *                   l = scalar|avx2|avx512 (each level rsl_batch_simd_support reports)
  *   history_<p>_<l>  rsl_batch_step_history (particle-major, packed histories of
  *                   rsl_model_history_size doubles, packed from the states untimed) at the
- *                   best level (or --level's); the records are unpacked into the states for the diff (the
- *                   fields a record does not keep, and the slip flags, taken from the baseline)
+ *                   best level (or --level's); the records are unpacked into the states for
+ *                   the diff (the fields a record does not keep, and the slip flags, taken
+ *                   from the baseline)
  *   contacts_<p>_<l>  rsl_batch_step_contacts (contact-major) at the best level (RSL_SIMD_AUTO,
- *                   or --level's; l is the level that ran); bodies pre-gathered per contact (untimed); its
- *                   loads are added to the accumulators after the call (untimed) for the diff
- *   decompose_<p>_<l>  rsl_batch_decompose (particle-major) at the best level (or --level's): the kinematic
- *                   decomposition only, no laws, no state (group full; not the baseline's work)
+ *                   or --level's; l is the level that ran); bodies pre-gathered per contact
+ *                   (untimed); its loads are added to the accumulators after the call
+ *                   (untimed) for the diff
+ *   decompose_<p>_<l>  rsl_batch_decompose (particle-major) at the best level (or --level's):
+ *                   the kinematic decomposition only, no laws, no state (group full; not the
+ *                   baseline's work)
  *   <row>[noslip]   the baselines, percontact_acc_c and batch_<p>_<auto level> again on the
  *                   no-slip histories (the same springs, those beyond a limit scaled below it:
  *                   no clip taken, the scalar baselines' best case); compared with

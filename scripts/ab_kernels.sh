@@ -10,11 +10,12 @@
 # Build the two libraries with separate target directories, e.g.
 #   git stash; cargo build --release --lib; cp target/release/librollslide.a /tmp/before.a; git stash pop
 #   cargo build --release --lib; scripts/ab_kernels.sh /tmp/before.a target/release/librollslide.a 2000 5 batch_f
-# Driver options pass through (--workload=B, --slip=0). At 1.2M contacts a kernel's time moves
-# by 10-20% with where the stack lies modulo 4 KB, which address-space randomisation changes at
-# every run (scripts/placement_sweep.sh measures the spread): that is why the rounds alternate
-# and the medians are compared. MALLOC_MMAP_THRESHOLD_=4000000000 in the environment places the
-# driver's arrays differently, another placement to check against.
+# Driver options pass through (--workload=B, --slip=0, --level=avx2 for the contacts_ rows).
+# At 1.2M contacts a kernel's time moves by 10-20% with where the stack lies modulo 4 KB, which
+# address-space randomisation changes at every run (scripts/placement_sweep.sh measures the
+# spread): that is why the rounds alternate and the medians are compared.
+# MALLOC_MMAP_THRESHOLD_=4000000000 in the environment places the driver's arrays differently,
+# another placement to check against.
 set -euo pipefail
 before=$1
 after=$2
