@@ -439,3 +439,86 @@ void test_batch_step_params(void) {
     CHECK(memcmp(f_before, fb, sizeof fb) == 0);
     rsl_model_free(m);
 }
+
+/* rsl_batch_step_indexed: the histories stepped where the host keeps them (one slot per
+ * neighbour-list entry here, every other one touching) give the bits of rsl_batch_step_params
+ * on a buffer of the touching contacts' states; the slots not indexed are neither read (they
+ * hold NaN, which a read would refuse) nor written; bad indices are a call-level error. */
+void test_batch_step_indexed(void) {
+    rsl_sphere p[NP];
+    uint32_t pairs[2 * NC];
+    double fn[NC];
+    scene(p, pairs, fn);
+    rsl_model *m = full_model();
+    const double dt = 1e-4;
+    double kt[NC];
+    for (int c = 0; c < NC; c++) kt[c] = 3e4 * (c + 1);
+    rsl_batch_contact_params params = {kt, NULL};
+    enum { NS = 2 * NC + 1 };
+    rsl_contact_state slots[NS], buffer[NC];
+    size_t index[NC];
+    memset(buffer, 0, sizeof buffer);
+    for (int s = 0; s < NS; s++) {
+        memset(&slots[s], 0, sizeof slots[s]);
+        slots[s].twisting_angle = NAN;
+    }
+    for (int c = 0; c < NC; c++) {
+        index[c] = (size_t)(2 * c + 1);
+        slots[index[c]].twisting_angle = 0.0;
+    }
+    rsl_vec3 fb[NP], tb[NP], fi[NP], ti[NP];
+    for (int step = 0; step < 3; step++) {
+        memset(fb, 0, sizeof fb);
+        memset(tb, 0, sizeof tb);
+        memset(fi, 0, sizeof fi);
+        memset(ti, 0, sizeof ti);
+        CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &params, dt, NULL,
+                                           buffer, fb, tb, NULL),
+                     RSL_OK);
+        rsl_batch_report rep;
+        CHECK_STATUS(rsl_batch_step_indexed(m, p, NP, pairs, NC, fn, NULL, &params, dt, NULL,
+                                            slots, NS, index, fi, ti, &rep),
+                     RSL_OK);
+        CHECK(rep.processed == NC && rep.failed == 0);
+        CHECK(memcmp(fb, fi, sizeof fb) == 0 && memcmp(tb, ti, sizeof tb) == 0);
+        for (int c = 0; c < NC; c++)
+            CHECK(memcmp(&buffer[c], &slots[index[c]], sizeof buffer[c]) == 0);
+    }
+    CHECK(buffer[0].sliding_spring.x != 0.0);
+    for (int s = 0; s < NS; s += 2) CHECK(isnan(slots[s].twisting_angle));
+    /* indices not strictly increasing, past n_states or misaligned: nothing processed or
+     * written */
+    rsl_contact_state before[NS];
+    memcpy(before, slots, sizeof slots);
+    rsl_vec3 f_before[NP];
+    memcpy(f_before, fi, sizeof fi);
+    const size_t repeated[NC] = {1, 3, 3, 7, 9};
+    const size_t falling[NC] = {1, 3, 5, 9, 7};
+    const size_t beyond[NC] = {1, 3, 5, 7, NS};
+    const size_t *misaligned = (const size_t *)((const char *)index + 1);
+    const size_t *bad[4] = {repeated, falling, beyond, misaligned};
+    for (int b = 0; b < 4; b++) {
+        rsl_batch_report rep;
+        CHECK_STATUS(rsl_batch_step_indexed(m, p, NP, pairs, NC, fn, NULL, &params, dt, NULL,
+                                            slots, NS, bad[b], fi, ti, &rep),
+                     b < 3 ? RSL_ERR_INVALID_ARGUMENT : RSL_ERR_MISALIGNED);
+        CHECK(rep.processed == 0 && rep.failed == 0);
+        CHECK(memcmp(before, slots, sizeof slots) == 0);
+        CHECK(memcmp(f_before, fi, sizeof fi) == 0);
+    }
+    /* a NaN in an indexed state: that contact skipped (its state untouched), the rest stepped */
+    slots[index[2]].rolling_spring.y = NAN;
+    memcpy(before, slots, sizeof slots);
+    rsl_batch_report rep;
+    CHECK_STATUS(rsl_batch_step_indexed(m, p, NP, pairs, NC, fn, NULL, &params, dt, NULL, slots,
+                                        NS, index, fi, ti, &rep),
+                 RSL_ERR_NON_FINITE);
+    CHECK(rep.failed == 1 && rep.first_failed == 2 && rep.processed == NC - 1);
+    CHECK(memcmp(&before[index[2]], &slots[index[2]], sizeof slots[0]) == 0);
+    CHECK(memcmp(&before[index[1]], &slots[index[1]], sizeof slots[0]) != 0);
+    /* no contacts: NULL arrays are fine */
+    CHECK_STATUS(rsl_batch_step_indexed(m, p, NP, NULL, 0, NULL, NULL, NULL, dt, NULL, NULL, 0,
+                                        NULL, fi, ti, NULL),
+                 RSL_OK);
+    rsl_model_free(m);
+}

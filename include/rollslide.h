@@ -778,6 +778,39 @@ int32_t rsl_batch_step_params(const struct rsl_model *model,
                               struct rsl_vec3 *torque,
                               struct rsl_batch_report *report);
 
+// As `rsl_batch_step_params`, with each contact's history read and written where the host
+// keeps it: contact `c`'s state is `states[state_index[c]]`, in an array of `n_states`
+// states (e.g. one per neighbour-list entry, as LAMMPS' and LIGGGHTS' granular styles keep
+// their histories), so that a host steps the touching pairs of its neighbour lists without
+// copying their histories into a buffer of `n_contacts` states and back. The indices must be
+// strictly increasing (each greater than the one before, as a host's touching pairs come in
+// neighbour-list order) and below `n_states`: otherwise the call returns
+// `RSL_ERR_INVALID_ARGUMENT` and processes nothing. The states not indexed are not read or
+// written. Everything else (physics, validation, skipping, the report's contact indices,
+// the order of the additions, the kernels) is that of `rsl_batch_step_params`, whose loads
+// and states this call reproduces bit for bit.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// As `rsl_batch_step_params`, with `states` holding `n_states` states and `state_index`
+// `n_contacts` indices (NULL only for an empty array); `states` must not overlap any other
+// array.
+int32_t rsl_batch_step_indexed(const struct rsl_model *model,
+                               const struct rsl_sphere *particles,
+                               size_t n_particles,
+                               const uint32_t *pairs,
+                               size_t n_contacts,
+                               const double *normal_force,
+                               const double *normal_stiffness,
+                               const struct rsl_batch_contact_params *params,
+                               double dt,
+                               const struct rsl_batch_options *options,
+                               struct rsl_contact_state *states,
+                               size_t n_states,
+                               const size_t *state_index,
+                               struct rsl_vec3 *force,
+                               struct rsl_vec3 *torque,
+                               struct rsl_batch_report *report);
+
 // Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`: 7 when
 // neither transport reads the previous normal (`RSL_TRANSPORT_PROJECT_RESCALE`,
 // `RSL_TRANSPORT_PROJECT`, `RSL_TRANSPORT_NONE`: the LAMMPS_2021 and LIGGGHTS_3_8 presets),

@@ -12,7 +12,9 @@
 # nalgebra's `cross` was left out of line: 93 against 45 ns per contact). No test sees that,
 # so this check does. It also fails on two helpers once found out of line in the SIMD kernels
 # (`core::array::from_fn` building the group's body references, and a closure of the
-# block's row reader): each cost a call, and its arguments and results through memory, per
+# block's row reader), and on those once found in the indexed-state store
+# (`get_disjoint_mut`, `array::map`) or that it could leave there (a function or closure of
+# `batch::states`): each cost a call, and its arguments and results through memory, per
 # group of contacts.
 #
 #   scripts/check_kernels.sh        (builds the release library first; needs objdump)
@@ -28,7 +30,7 @@ out=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
     call = 0
     # Demangled or (for section-relative targets) mangled names.
     if ($0 ~ /core_arch|nalgebra|simba|lanes_x86|rollslide::(scalar|laws|geometry|loads|decompose)|9rollslide(6scalar|4laws|8geometry|5loads|9decompose)/ ||
-        $0 ~ /core::array|4core5array|RowsAt/)
+        $0 ~ /core::array|4core5array|RowsAt|get_disjoint_mut|batch::states|5batch6states/)
       print name " calls " $NF
     next
   }

@@ -6,8 +6,8 @@ mod common;
 use common::{full_model, scene_models, Rng};
 use rollslide::batch::history::{history_words, words_from_state};
 use rollslide::batch::{
-    ContactSteps, Gather, ModelSliding, ParticleDecompose, ParticleSteps, Scene, SlidingOverrides,
-    PREFETCH_MIN_BYTES,
+    BatchReport, ContactStates, ContactSteps, Gather, IndexedStates, ModelSliding,
+    ParticleDecompose, ParticleSteps, Scene, SlidingOverrides, PREFETCH_MIN_BYTES,
 };
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
@@ -318,7 +318,7 @@ fn particle_major_accumulates_per_contact_loads() {
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
             normal_stiffness: None,
-            states: &mut states,
+            states: &mut states[..],
             force: &mut force,
             torque: &mut torque,
             sliding: ModelSliding,
@@ -405,7 +405,7 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
             normal_stiffness: None,
-            states: &mut states,
+            states: &mut states[..],
             force: &mut force,
             torque: &mut torque,
             sliding: ModelSliding,
@@ -544,7 +544,7 @@ fn repeated_steps_scalar_and_simd_agree() {
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
                 normal_stiffness: None,
-                states: &mut states,
+                states: &mut states[..],
                 force: &mut force,
                 torque: &mut torque,
                 sliding: ModelSliding,
@@ -634,7 +634,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
             normal_stiffness: None,
-            states: &mut states,
+            states: &mut states[..],
             force: &mut vec![rsl_vec3::default(); sc.particles.len()],
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
             sliding: ModelSliding,
@@ -694,7 +694,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             pairs: &pairs,
             normal_force: &sc.normal_force[c..c + 1],
             normal_stiffness: None,
-            states: &mut states,
+            states: &mut states[..],
             force: &mut vec![rsl_vec3::default(); sc.particles.len()],
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
             sliding: ModelSliding,
@@ -721,7 +721,7 @@ fn call_level_errors_process_nothing() {
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
         normal_stiffness: None,
-        states: &mut states,
+        states: &mut states[..],
         force: &mut force,
         torque: &mut torque,
         sliding: ModelSliding,
@@ -877,7 +877,7 @@ fn packed_histories_step_as_full_states() {
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
                 normal_stiffness: None,
-                states: &mut states,
+                states: &mut states[..],
                 force: &mut force,
                 torque: &mut torque,
                 sliding: ModelSliding,
@@ -949,7 +949,7 @@ fn step_packed<const W: usize>(
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
         normal_stiffness: None,
-        states: &mut records,
+        states: &mut records[..],
         force: &mut force,
         torque: &mut torque,
         sliding: ModelSliding,
@@ -1133,7 +1133,7 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
                     pairs: &sc.pairs,
                     normal_force: &sc.normal_force,
                     normal_stiffness: None,
-                    states: &mut states,
+                    states: &mut states[..],
                     force: &mut force,
                     torque: &mut torque,
                     sliding,
@@ -1201,4 +1201,185 @@ fn chunks_of_a_large_scene_count_only_the_particles_they_reach() {
         };
         assert_eq!(decompose.prefetching(), prefetches, "{contacts} contacts");
     }
+}
+
+/// The bits of every word of a state, slip flags included (NaN compares equal to itself).
+fn state_word_bits(s: &rsl_contact_state) -> Vec<u64> {
+    let c = ContactState::from(s);
+    let mut b: Vec<u64> = [
+        c.sliding_spring,
+        c.rolling_spring,
+        c.twisting_offaxis,
+        c.previous_normal,
+    ]
+    .iter()
+    .flat_map(|v| [v.x, v.y, v.z])
+    .map(f64::to_bits)
+    .collect();
+    b.push(c.twisting_angle.to_bits());
+    b.push(u64::from(s.slip_flags));
+    b
+}
+
+/// One particle-major step of `sc` (time step 1e-4) with its states in `states` and, when
+/// given, per-contact `k_t`: the report, whether the kernel prefetched, the forces and torques
+/// (from a non-zero start).
+fn step_with_states<St: ContactStates<Slot = rsl_contact_state>>(
+    model: &Model,
+    config: BatchConfig,
+    sc: &Scenario,
+    states: St,
+    k_t: Option<&[f64]>,
+) -> (BatchReport, bool, Vec<rsl_vec3>, Vec<rsl_vec3>) {
+    let start = rsl_vec3 {
+        x: 1.0,
+        y: -2.0,
+        z: 0.5,
+    };
+    let np = sc.particles.len();
+    let (mut force, mut torque) = (vec![start; np], vec![start; np]);
+    macro_rules! step {
+        ($sliding:expr) => {{
+            let mut access = ParticleSteps {
+                particles: &sc.particles,
+                pairs: &sc.pairs,
+                normal_force: &sc.normal_force,
+                normal_stiffness: None,
+                states,
+                force: &mut force,
+                torque: &mut torque,
+                sliding: $sliding,
+            };
+            access.check().unwrap();
+            let prefetched = access.prefetching();
+            let (report, _) = run_step(model, 1e-4, &mut access, config).unwrap();
+            (report, prefetched)
+        }};
+    }
+    let (report, prefetched) = match k_t {
+        Some(k) => step!(SlidingOverrides {
+            stiffness: Some(k),
+            damping: None,
+        }),
+        None => step!(ModelSliding),
+    };
+    (report, prefetched, force, torque)
+}
+
+/// States kept in the host's array (one slot per neighbour-list entry, about a third of them
+/// touching) and stepped through an index per contact ([`IndexedStates`]) give the bits of the
+/// same call on a buffer of the touching contacts' states: loads, states, report, in every
+/// kernel and precision, with and without per-contact sliding coefficients, with and without
+/// prefetching. The slots not indexed hold NaN (a read would refuse the contact) and keep it.
+#[test]
+fn indexed_states_step_as_a_buffer_of_states() {
+    let mut rng = Rng::new(77);
+    // 150 contacts run the kernels without prefetches; 12,000 (1.4 MB of states and indices
+    // alone) the prefetching ones.
+    for (nc, every_model) in [(150, true), (12_000, false)] {
+        let mut sc = scenario(nc / 3 + 10, nc, 41 + nc as u64);
+        sort_by_body1(&mut sc);
+        let mut index = Vec::with_capacity(nc);
+        let mut next = 0;
+        for _ in 0..nc {
+            next += 1 + (rng.next_u64() % 4) as usize;
+            index.push(next);
+        }
+        let n_slots = next + 3;
+        let untouched = rsl_contact_state {
+            twisting_angle: f64::NAN,
+            rolling_spring: rsl_vec3 {
+                x: 0.0,
+                y: f64::NAN,
+                z: 0.0,
+            },
+            ..Default::default()
+        };
+        let k_t: Vec<f64> = (0..nc).map(|_| rng.uniform(0.0, 4e4)).collect();
+        let mut tested = 0;
+        for (m, (model, scene)) in models().into_iter().enumerate() {
+            if !every_model && m % 4 != 0 {
+                continue;
+            }
+            for config in configs() {
+                if !every_model && !config.specialise {
+                    continue;
+                }
+                for with_kt in [false, true] {
+                    let what = format!("{nc} {scene:?} {config:?} k_t {with_kt}");
+                    let k_t = with_kt.then_some(&k_t[..]);
+                    let mut buffer = sc.states.clone();
+                    let want = step_with_states(&model, config, &sc, &mut buffer[..], k_t);
+                    let mut slots = vec![untouched; n_slots];
+                    for (c, &i) in index.iter().enumerate() {
+                        slots[i] = sc.states[c];
+                    }
+                    let states = IndexedStates::new(&mut slots, &index).unwrap();
+                    let got = step_with_states(&model, config, &sc, states, k_t);
+                    assert_eq!(got.1, nc > 1000, "{what}: prefetching as intended");
+                    assert_eq!(got.1, want.1, "{what}");
+                    assert_eq!(
+                        (got.0.processed, got.0.failed, got.0.first_failed),
+                        (want.0.processed, want.0.failed, want.0.first_failed),
+                        "{what}"
+                    );
+                    assert_eq!(got.0.first_error, want.0.first_error, "{what}");
+                    assert!(want.0.processed > nc / 2, "{what}: most contacts step");
+                    let bits = |v: &[rsl_vec3]| -> Vec<u64> {
+                        v.iter()
+                            .flat_map(|v| [v.x, v.y, v.z])
+                            .map(f64::to_bits)
+                            .collect()
+                    };
+                    assert_eq!(bits(&got.2), bits(&want.2), "{what}: force");
+                    assert_eq!(bits(&got.3), bits(&want.3), "{what}: torque");
+                    let mut next = 0;
+                    for (s, slot) in slots.iter().enumerate() {
+                        if index.get(next) == Some(&s) {
+                            assert_eq!(
+                                state_word_bits(slot),
+                                state_word_bits(&buffer[next]),
+                                "{what}: contact {next}"
+                            );
+                            next += 1;
+                        } else {
+                            assert_eq!(
+                                state_word_bits(slot),
+                                state_word_bits(&untouched),
+                                "{what}: slot {s} is not a contact's"
+                            );
+                        }
+                    }
+                    tested += 1;
+                }
+            }
+        }
+        assert!(tested > 0);
+    }
+}
+
+/// Indices that repeat, fall or point past the slots are refused before anything is read.
+#[test]
+fn indexed_states_refuse_bad_indices() {
+    let mut slots = vec![rsl_contact_state::default(); 6];
+    for bad in [&[0, 2, 2][..], &[3, 1], &[1, 6]] {
+        assert!(matches!(
+            IndexedStates::new(&mut slots, bad),
+            Err(Error::InvalidArgument(_))
+        ));
+    }
+    let states = IndexedStates::new(&mut slots, &[0, 5]).unwrap();
+    let sc = scenario(4, 3, 1);
+    let (mut force, mut torque) = (vec![rsl_vec3::default(); 4], vec![rsl_vec3::default(); 4]);
+    let access = ParticleSteps {
+        particles: &sc.particles,
+        pairs: &sc.pairs,
+        normal_force: &sc.normal_force,
+        normal_stiffness: None,
+        states,
+        force: &mut force,
+        torque: &mut torque,
+        sliding: ModelSliding,
+    };
+    assert!(access.check().is_err(), "two indices for three contacts");
 }

@@ -83,11 +83,37 @@ pub trait GroupCopy<P, S>: Copy {
         slip: &[u32; GROUP],
         states: &mut [S; GROUP],
     );
+    /// As [`GroupCopy::store_states`], into states that need not be adjacent in memory
+    /// (distinct slots, e.g. [`IndexedStates`](super::IndexedStates)'). The default writes
+    /// them one by one, as [`PortableCopy`] does.
+    #[inline(always)]
+    fn store_states_at(
+        self,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        states: [&mut S; GROUP],
+    ) where
+        S: StateSlot,
+    {
+        store_states_by_value(rows, slip, states);
+    }
     /// `out[k]` = the loads in slot `k` of `rows` (force 1, torque 1, torque 2), as
     /// [`LoadsSlot::set`] writes them (the default).
     #[inline(always)]
     fn store_loads<O: LoadsSlot>(self, rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
         store_loads_by_value(rows, out);
+    }
+}
+
+/// [`GroupCopy::store_states`] slot by slot, through [`StateSlot::store`].
+#[inline(always)]
+fn store_states_by_value<'a, S: StateSlot + 'a>(
+    rows: [&GroupRow; STATE_WORDS],
+    slip: &[u32; GROUP],
+    states: impl IntoIterator<Item = &'a mut S>,
+) {
+    for (k, state) in states.into_iter().enumerate() {
+        state.store(&state_from_words(|q| rows[q][k]), slip[k]);
     }
 }
 
@@ -142,9 +168,7 @@ impl<P: SphereSlot, S: StateSlot> GroupCopy<P, S> for PortableCopy {
         slip: &[u32; GROUP],
         states: &mut [S; GROUP],
     ) {
-        for (k, state) in states.iter_mut().enumerate() {
-            state.store(&state_from_words(|q| rows[q][k]), slip[k]);
-        }
+        store_states_by_value(rows, slip, states);
     }
 }
 
@@ -828,7 +852,7 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
         let whole = g + GROUP <= count && (ok >> g) & lane_bits(GROUP) == lane_bits(GROUP);
         if whole {
             let slip: &[u32; GROUP] = b.slip[g..g + GROUP].try_into().expect("a group");
-            copy.store_states(group(&b.state, g), slip, access.state_group(c0 + g));
+            access.store_group(copy, group(&b.state, g), slip, c0 + g);
         }
         for i in g..(g + GROUP).min(count) {
             let c = c0 + i;

@@ -29,11 +29,13 @@ pub mod block;
 pub mod history;
 pub mod lanes;
 pub mod scene;
+pub mod states;
 
 pub use block::{step_kernel, GroupCopy, GroupRow, LoadRows, PortableCopy};
 pub(crate) use block::{store_loads_by_value, BODY_WORDS, GROUP, STATE_WORDS};
 pub use lanes::{Lanes, MAX_LANES};
 pub use scene::Scene;
+pub use states::{ContactStates, IndexedStates};
 
 use crate::decompose::{
     decompose_pair, decompose_pair_with_geometry, Decomposition, Parts, Sphere,
@@ -312,8 +314,15 @@ pub trait StepAccess: Gather {
     fn state(&mut self, c: usize) -> &mut Self::State;
     /// The state of contact `c`, read only.
     fn state_ref(&self, c: usize) -> &Self::State;
-    /// The states of contacts `c..c + GROUP` (all `< len()`).
-    fn state_group(&mut self, c: usize) -> &mut [Self::State; block::GROUP];
+    /// Writes the states of contacts `c..c + GROUP` (all `< len()`) from `rows` and their slip
+    /// flags from `slip`, with `copy`.
+    fn store_group<X: GroupCopy<Self::P, Self::State>>(
+        &mut self,
+        copy: X,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        c: usize,
+    );
     /// Delivers the loads of a successful step of contact `c`.
     fn emit(&mut self, c: usize, loads: &PairLoads);
     /// The bodies and states of contacts `first..first + n` (`1 <= n <= GROUP`, all
@@ -459,7 +468,7 @@ impl SlidingSource for SlidingOverrides<'_> {
 
 /// Particle-major step: particles + index pairs; loads accumulated per particle
 /// (`force[i] += F1`, `force[j] -= F1`, `torque[i] += M1`, `torque[j] += M2`).
-pub struct ParticleSteps<'a, P, S, V, O = ModelSliding> {
+pub struct ParticleSteps<'a, P, St, V, O = ModelSliding> {
     /// Particles (index space of `pairs`).
     pub particles: &'a [P],
     /// Contacts `(i, j)`: body 1 is particle `i`, body 2 particle `j`.
@@ -468,8 +477,9 @@ pub struct ParticleSteps<'a, P, S, V, O = ModelSliding> {
     pub normal_force: &'a [f64],
     /// `k_n` per contact when the model needs it.
     pub normal_stiffness: Option<&'a [f64]>,
-    /// State per contact.
-    pub states: &'a mut [S],
+    /// State per contact: a slice in contact order (`&mut [S]`), or the host's own array
+    /// through an index per contact ([`IndexedStates`]).
+    pub states: St,
     /// Force accumulator per particle.
     pub force: &'a mut [V],
     /// Torque accumulator per particle.
@@ -478,7 +488,7 @@ pub struct ParticleSteps<'a, P, S, V, O = ModelSliding> {
     pub sliding: O,
 }
 
-impl<'a, P, S, V, O: SlidingSource> ParticleSteps<'a, P, S, V, O> {
+impl<'a, P, St: ContactStates, V, O: SlidingSource> ParticleSteps<'a, P, St, V, O> {
     /// Checks that the per-contact arrays have one entry per pair and the per-particle ones one
     /// per particle.
     pub fn check(&self) -> Result<(), Error> {
@@ -486,7 +496,7 @@ impl<'a, P, S, V, O: SlidingSource> ParticleSteps<'a, P, S, V, O> {
         let np = self.particles.len();
         let ok = self.normal_force.len() == nc
             && self.normal_stiffness.is_none_or(|k| k.len() == nc)
-            && self.states.len() == nc
+            && self.states.contacts() == nc
             && self.force.len() == np
             && self.torque.len() == np
             && self.sliding.overrides().fits(nc);
@@ -500,8 +510,8 @@ impl<'a, P, S, V, O: SlidingSource> ParticleSteps<'a, P, S, V, O> {
     }
 }
 
-impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> Gather
-    for ParticleSteps<'_, P, S, V, O>
+impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> Gather
+    for ParticleSteps<'_, P, St, V, O>
 {
     type P = P;
     #[inline(always)]
@@ -514,7 +524,7 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> Gather
     }
     #[inline(always)]
     fn touch(&self, c: usize) {
-        S::touch_in(self.states, c);
+        self.states.touch(c);
         if let Some(&[i, j]) = self.pairs.get(c) {
             for idx in [i as usize, j as usize] {
                 P::touch_in(self.particles, idx);
@@ -529,17 +539,17 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> Gather
             + size_of_val(self.pairs)
             + size_of_val(self.normal_force)
             + self.normal_stiffness.map_or(0, size_of_val)
-            + size_of_val(&*self.states)
+            + self.states.bytes()
             + reachable_bytes(self.force, n)
             + reachable_bytes(self.torque, n)
             + self.sliding.overrides().bytes()
     }
 }
 
-impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> StepAccess
-    for ParticleSteps<'_, P, S, V, O>
+impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
+    for ParticleSteps<'_, P, St, V, O>
 {
-    type State = S;
+    type State = St::Slot;
     #[inline(always)]
     fn len(&self) -> usize {
         self.pairs.len()
@@ -561,18 +571,22 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> StepAccess
         self.sliding.overrides()
     }
     #[inline(always)]
-    fn state(&mut self, c: usize) -> &mut S {
-        &mut self.states[c]
+    fn state(&mut self, c: usize) -> &mut St::Slot {
+        self.states.get_mut(c)
     }
     #[inline(always)]
-    fn state_group(&mut self, c: usize) -> &mut [S; block::GROUP] {
-        (&mut self.states[c..c + block::GROUP])
-            .try_into()
-            .expect("a group of states")
+    fn store_group<X: GroupCopy<P, St::Slot>>(
+        &mut self,
+        copy: X,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        c: usize,
+    ) {
+        self.states.store_group(copy, rows, slip, c);
     }
     #[inline(always)]
-    fn state_ref(&self, c: usize) -> &S {
-        &self.states[c]
+    fn state_ref(&self, c: usize) -> &St::Slot {
+        self.states.get(c)
     }
     #[inline(always)]
     fn emit(&mut self, c: usize, l: &PairLoads) {
@@ -584,16 +598,14 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> StepAccess
         self.torque[j].add(l.torque2);
     }
     #[inline(always)]
-    fn group_refs(&self, first: usize, n: usize) -> GroupRefs<'_, P, S> {
+    fn group_refs(&self, first: usize, n: usize) -> GroupRefs<'_, P, St::Slot> {
         if n < block::GROUP {
             return group_refs_by_contact(self, first, n);
         }
         let pairs: &[[u32; 2]; block::GROUP] = self.pairs[first..first + block::GROUP]
             .try_into()
             .expect("a group of pairs");
-        let states: &[S; block::GROUP] = self.states[first..first + block::GROUP]
-            .try_into()
-            .expect("a group of states");
+        let states = self.states.group(first);
         // `gatherable` (checked before any kernel runs): there is a particle 0.
         let (len, fallback) = (self.particles.len(), &self.particles[0]);
         let body = |i: u32| self.particles.get(i as usize).unwrap_or(fallback);
@@ -604,7 +616,7 @@ impl<P: SphereSlot, S: StateSlot, V: AddSlot, O: SlidingSource> StepAccess
         GroupRefs {
             body1: block::group_of(|k| body(pairs[k][0])),
             body2: block::group_of(|k| body(pairs[k][1])),
-            states: block::group_of(|k| &states[k]),
+            states,
             index_ok,
         }
     }
@@ -751,10 +763,14 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
         &mut self.states[c]
     }
     #[inline(always)]
-    fn state_group(&mut self, c: usize) -> &mut [S; block::GROUP] {
-        (&mut self.states[c..c + block::GROUP])
-            .try_into()
-            .expect("a group of states")
+    fn store_group<X: GroupCopy<P, S>>(
+        &mut self,
+        copy: X,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        c: usize,
+    ) {
+        self.states.store_group(copy, rows, slip, c);
     }
     #[inline(always)]
     fn state_ref(&self, c: usize) -> &S {

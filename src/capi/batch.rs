@@ -30,9 +30,10 @@ use crate::batch::history::{
 };
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
-    AddSlot, BatchReport, ContactDecompose, ContactSteps, DecomposeAccess, DecompositionSlot,
-    Gather, GroupCopy, LoadsSlot, ModelSliding, PairLoads, ParticleDecompose, ParticleSteps,
-    PortableCopy, Scene, SlidingOverrides, SlidingSource, SphereSlot, StateSlot, StepAccess,
+    AddSlot, BatchReport, ContactDecompose, ContactStates, ContactSteps, DecomposeAccess,
+    DecompositionSlot, Gather, GroupCopy, IndexedStates, LoadsSlot, ModelSliding, PairLoads,
+    ParticleDecompose, ParticleSteps, PortableCopy, Scene, SlidingOverrides, SlidingSource,
+    SphereSlot, StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
 use crate::error::Error;
@@ -692,7 +693,7 @@ pub fn run_step<A: CAccess>(
 pub fn run_history_step<const W: usize, V: AddSlot>(
     model: &Model,
     dt: f64,
-    access: &mut ParticleSteps<'_, rsl_sphere, Record<W>, V>,
+    access: &mut ParticleSteps<'_, rsl_sphere, &mut [Record<W>], V>,
     config: BatchConfig,
 ) -> Result<(BatchReport, Scene), Error> {
     check_batch_model(model)?;
@@ -1092,26 +1093,51 @@ pub unsafe extern "C" fn rsl_batch_step_params(
     torque: *mut rsl_vec3,
     report: *mut rsl_batch_report,
 ) -> i32 {
-    /// Steps the checked arguments with coefficients from `sliding`.
-    fn run<O: SlidingSource>(
-        a: ParticleArgs<'_>,
-        states: &mut [rsl_contact_state],
-        sliding: O,
-        dt: f64,
-    ) -> Result<(BatchReport, Scene), FfiError> {
-        let mut access = ParticleSteps {
-            particles: a.particles,
-            pairs: a.pairs,
-            normal_force: a.normal_force,
-            normal_stiffness: a.normal_stiffness,
-            states,
-            force: a.force,
-            torque: a.torque,
-            sliding,
-        };
-        access.check()?;
-        Ok(run_step(&a.model.model, dt, &mut access, a.config)?)
+    // SAFETY: forwarded contract of this function; `slice_out` checks NULL and alignment.
+    unsafe {
+        particle_call(
+            model,
+            particles,
+            n_particles,
+            pairs,
+            n_contacts,
+            normal_force,
+            normal_stiffness,
+            params,
+            dt,
+            options,
+            force,
+            torque,
+            report,
+            || slice_out(states, n_contacts, "states"),
+        )
     }
+}
+
+/// The shared body of the particle-major entries with per-contact coefficients: checks and
+/// borrows the arguments (`states` those of the histories), steps the contacts and fills the
+/// report; a call-level error processes nothing.
+///
+/// # Safety
+/// As `rsl_batch_step_params`' contract for the arguments given here; `states` may rely on
+/// its caller's contract.
+#[allow(clippy::too_many_arguments)]
+unsafe fn particle_call<St: ContactStates<Slot = rsl_contact_state>>(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    params: *const rsl_batch_contact_params,
+    dt: f64,
+    options: *const rsl_batch_options,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+    report: *mut rsl_batch_report,
+    states: impl FnOnce() -> Result<St, FfiError>,
+) -> i32 {
     guard(|| {
         // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
         let report = unsafe { report_out(report)? };
@@ -1131,31 +1157,119 @@ pub unsafe extern "C" fn rsl_batch_step_params(
                     torque,
                 )?
             };
+            let states = states()?;
             // SAFETY: as above.
-            let (states, sliding) = unsafe {
-                (
-                    slice_out(states, n_contacts, "states")?,
-                    sliding_in(params, n_contacts)?,
-                )
-            };
+            let sliding = unsafe { sliding_in(params, n_contacts)? };
             Ok((a, states, sliding))
         })();
         match result {
             Err(e) => refuse(report, e),
-            Ok((a, states, sliding)) => {
-                let simd = a.config.simd;
-                let stepped = if sliding.stiffness.is_none() && sliding.damping.is_none() {
-                    run(a, states, ModelSliding, dt)
-                } else {
-                    run(a, states, sliding, dt)
-                };
-                match stepped {
-                    Err(e) => refuse(report, e),
-                    Ok((b, scene)) => finish(report, Ok((b, scene as u32, simd))),
-                }
-            }
+            Ok((a, states, sliding)) => step_particles(a, states, sliding, dt, report),
         }
     })
+}
+
+/// Steps the checked arguments of a particle-major call with the states `states` and the
+/// per-contact coefficients `sliding` (the model's kernels when it has none), and fills the
+/// report.
+fn step_particles<St: ContactStates<Slot = rsl_contact_state>>(
+    a: ParticleArgs<'_>,
+    states: St,
+    sliding: SlidingOverrides<'_>,
+    dt: f64,
+    report: Option<&mut rsl_batch_report>,
+) -> Result<(), FfiError> {
+    /// Steps with coefficients from `sliding`.
+    fn run<St: ContactStates<Slot = rsl_contact_state>, O: SlidingSource>(
+        a: ParticleArgs<'_>,
+        states: St,
+        sliding: O,
+        dt: f64,
+    ) -> Result<(BatchReport, Scene), FfiError> {
+        let mut access = ParticleSteps {
+            particles: a.particles,
+            pairs: a.pairs,
+            normal_force: a.normal_force,
+            normal_stiffness: a.normal_stiffness,
+            states,
+            force: a.force,
+            torque: a.torque,
+            sliding,
+        };
+        access.check()?;
+        Ok(run_step(&a.model.model, dt, &mut access, a.config)?)
+    }
+    let simd = a.config.simd;
+    let stepped = if sliding.stiffness.is_none() && sliding.damping.is_none() {
+        run(a, states, ModelSliding, dt)
+    } else {
+        run(a, states, sliding, dt)
+    };
+    match stepped {
+        Err(e) => refuse(report, e),
+        Ok((b, scene)) => finish(report, Ok((b, scene as u32, simd))),
+    }
+}
+
+/// As `rsl_batch_step_params`, with each contact's history read and written where the host
+/// keeps it: contact `c`'s state is `states[state_index[c]]`, in an array of `n_states`
+/// states (e.g. one per neighbour-list entry, as LAMMPS' and LIGGGHTS' granular styles keep
+/// their histories), so that a host steps the touching pairs of its neighbour lists without
+/// copying their histories into a buffer of `n_contacts` states and back. The indices must be
+/// strictly increasing (each greater than the one before, as a host's touching pairs come in
+/// neighbour-list order) and below `n_states`: otherwise the call returns
+/// `RSL_ERR_INVALID_ARGUMENT` and processes nothing. The states not indexed are not read or
+/// written. Everything else (physics, validation, skipping, the report's contact indices,
+/// the order of the additions, the kernels) is that of `rsl_batch_step_params`, whose loads
+/// and states this call reproduces bit for bit.
+///
+/// # Safety
+/// As `rsl_batch_step_params`, with `states` holding `n_states` states and `state_index`
+/// `n_contacts` indices (NULL only for an empty array); `states` must not overlap any other
+/// array.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_step_indexed(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    pairs: *const u32,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    params: *const rsl_batch_contact_params,
+    dt: f64,
+    options: *const rsl_batch_options,
+    states: *mut rsl_contact_state,
+    n_states: usize,
+    state_index: *const usize,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    // SAFETY: forwarded contract of this function; `slice_out` and `slice_in` check NULL and
+    // alignment.
+    unsafe {
+        particle_call(
+            model,
+            particles,
+            n_particles,
+            pairs,
+            n_contacts,
+            normal_force,
+            normal_stiffness,
+            params,
+            dt,
+            options,
+            force,
+            torque,
+            report,
+            || {
+                let slots = slice_out(states, n_states, "states")?;
+                let index = slice_in(state_index, n_contacts, "state_index")?;
+                Ok(IndexedStates::new(slots, index)?)
+            },
+        )
+    }
 }
 
 /// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`: 7 when

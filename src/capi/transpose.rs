@@ -261,10 +261,59 @@ fn doubles_mut(states: &mut [rsl_contact_state; GROUP]) -> [*mut f64; GROUP] {
         .map(|s| (s as *mut rsl_contact_state).cast::<f64>())
 }
 
+/// A pointer to the first double of `state`, to write (valid for the whole struct).
+fn doubles_of(state: &mut rsl_contact_state) -> *mut f64 {
+    (state as *mut rsl_contact_state).cast::<f64>()
+}
+
 /// Writes each state's slip flags (the transpositions write only its doubles).
 fn set_slip_flags(states: &mut [rsl_contact_state; GROUP], slip: &[u32; GROUP]) {
     for (state, &flags) in states.iter_mut().zip(slip) {
         state.slip_flags = flags;
+    }
+}
+
+/// [`set_slip_flags`] for states that need not be adjacent.
+fn set_slip_flags_at(states: [&mut rsl_contact_state; GROUP], slip: &[u32; GROUP]) {
+    for (state, &flags) in states.into_iter().zip(slip) {
+        state.slip_flags = flags;
+    }
+}
+
+/// Writes word `q` of the state at `dst[k]` from `rows[q][k]` (its first 13 doubles) by AVX2
+/// 4 x 4 transpositions: words 0..4, 4..8, 8..12 and 9..13 (the last three written twice
+/// with the same values).
+///
+/// # Safety
+/// The CPU must have AVX2; each `dst[k]` must be writable for a whole `rsl_contact_state` and
+/// not overlap another or the rows.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn avx2_rows_to_states(rows: [&GroupRow; STATE_WORDS], dst: [*mut f64; GROUP]) {
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+    // SAFETY: the caller's contract; a state starts with 13 doubles (asserted above), so every
+    // window is inside it.
+    unsafe {
+        avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
+        avx2::rows_to_words([r4, r5, r6, r7], dst, 4);
+        avx2::rows_to_words([r8, r9, r10, r11], dst, 8);
+        avx2::rows_to_words([r9, r10, r11, r12], dst, 9);
+    }
+}
+
+/// As [`avx2_rows_to_states`] by AVX-512 8 x 8 transpositions: words 0..8 and 5..13 (5..8
+/// written twice with the same values).
+///
+/// # Safety
+/// The CPU must have AVX-512 F and DQ; `dst` as for [`avx2_rows_to_states`].
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn avx512_rows_to_states(rows: [&GroupRow; STATE_WORDS], dst: [*mut f64; GROUP]) {
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
+    // SAFETY: as in `avx2_rows_to_states`.
+    unsafe {
+        avx512::rows_to_words([r0, r1, r2, r3, r4, r5, r6, r7], dst, 0);
+        avx512::rows_to_words([r5, r6, r7, r8, r9, r10, r11, r12], dst, 5);
     }
 }
 
@@ -318,18 +367,23 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
         slip: &[u32; GROUP],
         states: &mut [rsl_contact_state; GROUP],
     ) {
-        let dst = doubles_mut(states);
-        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
-        // SAFETY: as in `bodies`; each pointer comes from a distinct `&mut` state (so they do
-        // not overlap each other or the rows) whose first 13 doubles are words 0..4, 4..8,
-        // 8..12 and 9..13 (the last written twice with the same values).
-        unsafe {
-            avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
-            avx2::rows_to_words([r4, r5, r6, r7], dst, 4);
-            avx2::rows_to_words([r8, r9, r10, r11], dst, 8);
-            avx2::rows_to_words([r9, r10, r11, r12], dst, 9);
-        }
+        // SAFETY: as in `bodies`; the pointers come from distinct `&mut` states (so they do not
+        // overlap each other or the rows).
+        unsafe { avx2_rows_to_states(rows, doubles_mut(states)) };
         set_slip_flags(states, slip);
+    }
+
+    #[inline(always)]
+    fn store_states_at(
+        self,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        mut states: [&mut rsl_contact_state; GROUP],
+    ) {
+        let dst = states.each_mut().map(|s| doubles_of(s));
+        // SAFETY: as in `store_states` (distinct `&mut` states).
+        unsafe { avx2_rows_to_states(rows, dst) };
+        set_slip_flags_at(states, slip);
     }
 
     #[inline(always)]
@@ -385,16 +439,23 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
         slip: &[u32; GROUP],
         states: &mut [rsl_contact_state; GROUP],
     ) {
-        let dst = doubles_mut(states);
-        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
-        // SAFETY: as in `bodies`; each pointer comes from a distinct `&mut` state (so they do
-        // not overlap each other or the rows) whose first 13 doubles are words 0..8 and 5..13
-        // (5..8 written twice with the same values).
-        unsafe {
-            avx512::rows_to_words([r0, r1, r2, r3, r4, r5, r6, r7], dst, 0);
-            avx512::rows_to_words([r5, r6, r7, r8, r9, r10, r11, r12], dst, 5);
-        }
+        // SAFETY: as in `bodies`; the pointers come from distinct `&mut` states (so they do not
+        // overlap each other or the rows).
+        unsafe { avx512_rows_to_states(rows, doubles_mut(states)) };
         set_slip_flags(states, slip);
+    }
+
+    #[inline(always)]
+    fn store_states_at(
+        self,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        mut states: [&mut rsl_contact_state; GROUP],
+    ) {
+        let dst = states.each_mut().map(|s| doubles_of(s));
+        // SAFETY: as in `store_states` (distinct `&mut` states).
+        unsafe { avx512_rows_to_states(rows, dst) };
+        set_slip_flags_at(states, slip);
     }
 
     #[inline(always)]
@@ -586,11 +647,23 @@ mod tests {
         let mut out: [rsl_contact_state; GROUP] = states.clone().try_into().expect("a group");
         let slip = [1, 2, 3, 4, 5, 6, 7, 0];
         copy.store_states(reversed.each_ref(), &slip, &mut out);
-        (
-            bits(&body_rows),
-            bits(&state_rows),
-            out.iter().map(state_bits).collect(),
-        )
+        // The same through references (states apart in memory, as `IndexedStates` has them):
+        // every other slot of a longer array, in reverse order of the group's slots.
+        let mut apart = states.iter().chain(&states).cloned().collect::<Vec<_>>();
+        let mut refs = apart.iter_mut().step_by(2).collect::<Vec<_>>();
+        refs.reverse();
+        let refs: [&mut rsl_contact_state; GROUP] = refs.try_into().expect("a group");
+        let rows: [GroupRow; STATE_WORDS] = reversed.map(|mut r| {
+            r.reverse();
+            r
+        });
+        let mut slip_back = slip;
+        slip_back.reverse();
+        copy.store_states_at(rows.each_ref(), &slip_back, refs);
+        let at: Vec<_> = apart.iter().step_by(2).map(state_bits).collect();
+        let out: Vec<_> = out.iter().map(state_bits).collect();
+        assert_eq!(at, out, "store_states_at writes what store_states writes");
+        (bits(&body_rows), bits(&state_rows), out)
     }
 
     #[test]

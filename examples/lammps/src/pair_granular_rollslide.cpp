@@ -407,35 +407,35 @@ void PairGranularRollslide::Chunk::resize(bool is_direct)
   normal_force.resize(CHUNK);
   sliding_stiffness.resize(CHUNK);
   sliding_damping.resize(CHUNK);
-  state.resize(CHUNK);
+  index.resize(is_direct ? CHUNK : 0);
+  state.resize(is_direct ? 0 : CHUNK);
   loads.resize(is_direct ? 0 : CHUNK);
 }
 
-// Steps the direct chunk in one rsl_batch_step_params call (with the chunk's per-contact k_t and
-// gamma_t when its law has them), which adds the loads to both atoms' force and torque in the
-// chunk's order.
+// Steps the direct chunk in one rsl_batch_step_indexed call (with the chunk's per-contact k_t and
+// gamma_t when its law has them), which steps each contact's history where the fix keeps it
+// (its entries come in increasing order, as the call requires) and adds the loads to both
+// atoms' force and torque in the chunk's order.
 void PairGranularRollslide::flush_direct()
 {
   Chunk &ch = direct;
   const int n = ch.n;
   if (n == 0) return;
-  load_states(ch);
   rsl_batch_report report;
   rsl_batch_contact_params params = chunk_params(ch);
   const size_t nall = (size_t) atom->nlocal + atom->nghost;
   // atom->f and atom->torque hold 3 contiguous doubles per atom, the layout of rsl_vec3.
   rsl_vec3 *f = reinterpret_cast<rsl_vec3 *>(atom->f[0]);
   rsl_vec3 *t = reinterpret_cast<rsl_vec3 *>(atom->torque[0]);
-  int32_t st = rsl_batch_step_params(chunk_model, spheres.data(), nall, ch.pairs.data(), n,
-                                     ch.normal_force.data(), nullptr, &params, dt, nullptr,
-                                     ch.state.data(), f, t, &report);
-  if (st != RSL_OK) chunk_error("rsl_batch_step_params", st, report, ch);
-  rsl_contact_state *states = history->state.data();
-  for (int k = 0; k < n; k++) states[ch.pending[k].e] = ch.state[k];
+  int32_t st = rsl_batch_step_indexed(chunk_model, spheres.data(), nall, ch.pairs.data(), n,
+                                      ch.normal_force.data(), nullptr, &params, dt, nullptr,
+                                      history->state.data(), history->state.size(),
+                                      ch.index.data(), f, t, &report);
+  if (st != RSL_OK) chunk_error("rsl_batch_step_indexed", st, report, ch);
   ch.n = 0;
 }
 
-// Copies the stored histories of a chunk's contacts into the chunk.
+// Copies the stored histories of the paired chunk's contacts into the chunk.
 void PairGranularRollslide::load_states(Chunk &ch)
 {
   const rsl_contact_state *states = history->state.data();
@@ -592,10 +592,10 @@ void PairGranularRollslide::compute(int eflag, int vflag)
         // kind below, so that each copy addresses its chunk's arrays directly.)
         auto join = [&](Chunk &ch) {
           const int k = ch.n++;
-          // The flush copies this contact's history into the chunk, up to CHUNK contacts
-          // later. The histories of all neighbour pairs are far larger than the cache, and that
-          // copy would wait on each one in turn: fetched now (for writing: the flush writes it
-          // back), it is in cache by then.
+          // The flush reads this contact's history (in place, or copying it into the chunk)
+          // up to CHUNK contacts later. The histories of all neighbour pairs are far larger than
+          // the cache, and the flush would wait on each one in turn: fetched now (for writing:
+          // the step writes it back), it is in cache by then.
           const char *h = reinterpret_cast<const char *>(&states[e]);
           __builtin_prefetch(h, 1);
           __builtin_prefetch(h + 64, 1);
@@ -615,6 +615,7 @@ void PairGranularRollslide::compute(int eflag, int vflag)
         if (use_direct && j < nlocal) {
           if (direct.n == CHUNK) flush_direct();
           const int k = join(direct);
+          direct.index[k] = (size_t) e;
           direct.pairs[2 * k] = (uint32_t) i;
           direct.pairs[2 * k + 1] = (uint32_t) j;
         } else {
@@ -655,8 +656,9 @@ void PairGranularRollslide::compute(int eflag, int vflag)
 
 double PairGranularRollslide::memory_usage()
 {
-  const double common = 3 * sizeof(double) + sizeof(rsl_contact_state) + sizeof(Pending);
-  return (double) CHUNK * (2 * common + 2 * sizeof(uint32_t) + 2 * sizeof(rsl_sphere) +
+  const double common = 3 * sizeof(double) + sizeof(Pending);
+  return (double) CHUNK * (2 * common + 2 * sizeof(uint32_t) + sizeof(size_t) +
+                           sizeof(rsl_contact_state) + 2 * sizeof(rsl_sphere) +
                            sizeof(rsl_batch_loads)) +
       (double) spheres.capacity() * sizeof(rsl_sphere);
 }

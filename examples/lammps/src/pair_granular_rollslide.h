@@ -96,7 +96,8 @@ class PairGranularRollslide : public Pair {
     std::vector<double> normal_force;
     // Per-contact k_t (mindlin) and gamma_t (every damping model but velocity).
     std::vector<double> sliding_stiffness, sliding_damping;
-    std::vector<rsl_contact_state> state;
+    std::vector<size_t> index;              // direct: each contact's entry in the history
+    std::vector<rsl_contact_state> state;   // paired: the histories, copied in and out
     std::vector<rsl_batch_loads> loads;     // paired only
     void resize(bool direct);
   };
