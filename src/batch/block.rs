@@ -84,8 +84,8 @@ pub trait GroupCopy<P, S>: Copy {
         states: &mut [S; GROUP],
     );
     /// As [`GroupCopy::store_states`], into states that need not be adjacent in memory
-    /// (distinct slots, e.g. [`IndexedStates`](super::IndexedStates)'). The default writes
-    /// them one by one, as [`PortableCopy`] does.
+    /// (distinct slots, e.g. those of [`IndexedStates`](super::IndexedStates)). The default
+    /// writes them one by one, as [`PortableCopy`] does.
     #[inline(always)]
     fn store_states_at(
         self,
