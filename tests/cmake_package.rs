@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::linking::run;
+use common::linking::{run, shared_cmake_cargo_dir};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -107,7 +107,8 @@ fn cmake_build_ctest_install_examples_and_pkg_config() {
         .arg(root())
         .arg("-B")
         .arg(&build)
-        .arg("-DCMAKE_BUILD_TYPE=Release"));
+        .arg("-DCMAKE_BUILD_TYPE=Release")
+        .arg(shared_cmake_cargo_dir()));
     run(Command::new("cmake")
         .arg("--build")
         .arg(&build)

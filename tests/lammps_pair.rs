@@ -24,7 +24,7 @@
 
 mod common;
 
-use common::linking::run;
+use common::linking::{run, shared_cmake_cargo_dir};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -114,6 +114,7 @@ fn build() -> PathBuf {
         .arg("-B")
         .arg(&rsl_build)
         .arg(format!("-DCMAKE_INSTALL_PREFIX={}", prefix.display()))
+        .arg(shared_cmake_cargo_dir())
         .arg("-DROLLSLIDE_BUILD_TESTS=OFF"));
     run(Command::new("cmake")
         .args(["--build"])

@@ -595,11 +595,13 @@ mod x86 {
 
 /// Calls `$f::<scene code, $p, A>$args` with the scene as a compile-time constant: one of the
 /// listed scenes, else the generic kernel (so that only the listed scenes' kernels are
-/// compiled).
+/// compiled). A build with `--cfg rollslide_generic_batch_kernels` compiles the generic kernels
+/// only (see [`batch_scene`]).
 macro_rules! by_scene {
     ($scene:expr, [$($s:ident),*], $f:ident, $p:literal, $args:tt) => {
         match $scene {
-            $(Scene::$s => $f::<{ Scene::$s as u8 }, $p, _> $args,)*
+            $(#[cfg(not(rollslide_generic_batch_kernels))]
+            Scene::$s => $f::<{ Scene::$s as u8 }, $p, _> $args,)*
             #[allow(unreachable_patterns)]
             _ => $f::<0, $p, _> $args,
         }
@@ -647,6 +649,24 @@ macro_rules! by_kernel {
 #[cfg(target_arch = "x86_64")]
 use x86::{avx2_f32, avx2_f64, avx512_f32, avx512_f64};
 
+/// The scene whose kernel a batch of `model` runs: its class ([`Scene::classify`]) when
+/// `specialise`, else the generic one.
+///
+/// A build with `--cfg rollslide_generic_batch_kernels` (in `RUSTFLAGS`) runs the generic
+/// kernel for every model, and says so here (and so in `rsl_batch_report.scene` and
+/// `rsl_batch_scene`): it compiles a fraction of the kernels, in a fraction of the time and
+/// memory, for the builds that step no batch or need not specialise it (`.ci/run`: the stress
+/// profile, the fuzz targets, the portable library valgrind reruns a test on). Double
+/// precision results are the same to the bit either way (`tests/batch.rs` checks every kernel
+/// against the per-contact step with tolerance 0).
+fn batch_scene(model: &Model, specialise: bool) -> Scene {
+    if specialise && !cfg!(rollslide_generic_batch_kernels) {
+        Scene::classify(model)
+    } else {
+        Scene::Generic
+    }
+}
+
 /// Steps every contact of `access` with the kernel of `config` (safe: the SIMD level is
 /// re-checked against the CPU). Returns the report and the scene that ran. The model and time
 /// step are validated here; a call-level error processes nothing.
@@ -658,11 +678,7 @@ pub fn run_step<A: CAccess>(
 ) -> Result<(BatchReport, Scene), Error> {
     check_batch_model(model)?;
     check_time_step(dt)?;
-    let scene = if config.specialise {
-        Scene::classify(model)
-    } else {
-        Scene::Generic
-    };
+    let scene = batch_scene(model, config.specialise);
     if !config.simd.available() {
         return Err(Error::InvalidArgument(
             "SIMD level not supported by this CPU".to_string(),
@@ -704,11 +720,7 @@ pub fn run_history_step<const W: usize, V: AddSlot>(
             history_words(model)
         )));
     }
-    let scene = if config.specialise {
-        Scene::classify(model)
-    } else {
-        Scene::Generic
-    };
+    let scene = batch_scene(model, config.specialise);
     if !config.simd.available() {
         return Err(Error::InvalidArgument(
             "SIMD level not supported by this CPU".to_string(),
@@ -1711,7 +1723,7 @@ pub unsafe extern "C" fn rsl_batch_scene(model: *const rsl_model, scene: *mut u3
     guard(|| {
         // SAFETY: forwarded contract; helpers check NULL and alignment.
         let (m, out) = unsafe { (live_model(model)?, output(scene, "scene")?) };
-        *out = Scene::classify(&m.model) as u32;
+        *out = batch_scene(&m.model, true) as u32;
         Ok(())
     })
 }
