@@ -18,10 +18,16 @@
 # group of contacts.
 #
 #   scripts/check_kernels.sh        (builds the release library first; needs objdump)
+#   scripts/check_kernels.sh LIB    (checks the release archive LIB, built elsewhere: .ci/run
+#                                    gives it the one the CMake build made)
 set -eu
 cd "$(dirname "$0")/.."
-cargo build --release --lib --quiet
-lib=target/release/librollslide.a
+lib=${1:-}
+if [ -z "$lib" ]; then
+  cargo build --release --lib --quiet
+  lib=target/release/librollslide.a
+fi
+[ -f "$lib" ] || { echo "check_kernels: no archive $lib" >&2; exit 1; }
 # In the archive's objects a call's target is its relocation (-r), on the line after the call.
 out=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
   /^[0-9a-f]+ <.*>:$/ { inside = ($0 ~ /capi::batch::x86::/); name = $0; call = 0; next }

@@ -20,7 +20,9 @@
 #
 # Usage: scripts/sanitizers.sh [--no-valgrind]
 # Env: CC (default cc), PROFILE (cargo profile of the library under ASan, default release),
-#      VALGRIND_PROFILE (cargo profile of the library under valgrind, default release).
+#      VALGRIND_PROFILE (cargo profile of the library under valgrind, default release),
+#      LIB (a librollslide.a built elsewhere, for both instead of building one: .ci/run gives the
+#      release archive the CMake build made; the portable rerun is still built here).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,9 +32,12 @@ VALGRIND_PROFILE=${VALGRIND_PROFILE:-release}
 run_valgrind=1
 [ "${1:-}" = "--no-valgrind" ] && run_valgrind=0
 
-# Builds the static library in cargo profile $1 and prints its path.
+# Builds the static library in cargo profile $1 and prints its path ($LIB when given).
 build_lib() {
-  if [ "$1" = "dev" ]; then
+  if [ -n "${LIB:-}" ]; then
+    [ -f "$LIB" ] || { echo "sanitizers: no archive $LIB" >&2; exit 1; }
+    echo "$LIB"
+  elif [ "$1" = "dev" ]; then
     cargo build --lib >&2
     echo target/debug/librollslide.a
   else
@@ -69,7 +74,7 @@ if [ "$run_valgrind" -eq 1 ]; then
   if ! command -v valgrind > /dev/null; then
     echo "valgrind not installed (apt-get install valgrind)"; exit 1
   fi
-  echo "== valgrind memcheck (library profile $VALGRIND_PROFILE)"
+  echo "== valgrind memcheck (library ${LIB:-of profile $VALGRIND_PROFILE})"
   vg_lib=$(build_lib "$VALGRIND_PROFILE")
   "$CC" "${common[@]}" "${sources[@]}" "$vg_lib" "${native_libs[@]}" -o "$out/c_tests_plain"
   vg() { # binary test log

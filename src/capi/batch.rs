@@ -600,7 +600,7 @@ mod x86 {
 macro_rules! by_scene {
     ($scene:expr, [$($s:ident),*], $f:ident, $p:literal, $args:tt) => {
         match $scene {
-            $(#[cfg(not(rollslide_generic_batch_kernels))]
+            $(#[cfg(not(any(test, rollslide_generic_batch_kernels)))]
             Scene::$s => $f::<{ Scene::$s as u8 }, $p, _> $args,)*
             #[allow(unreachable_patterns)]
             _ => $f::<0, $p, _> $args,
@@ -658,9 +658,12 @@ use x86::{avx2_f32, avx2_f64, avx512_f32, avx512_f64};
 /// memory, for the builds that step no batch or need not specialise it (`.ci/run`: the stress
 /// profile, the fuzz targets, the portable library valgrind reruns a test on). Double
 /// precision results are the same to the bit either way (`tests/batch.rs` checks every kernel
-/// against the per-contact step with tolerance 0).
+/// against the per-contact step with tolerance 0). The library's own unit tests (`cfg(test)`)
+/// are built so too: none of them needs a scene kernel (the integration tests, which link the
+/// library as hosts do, run them all), and `cargo test` compiles that harness next to the
+/// library, which two builds of every scene kernel at once did not fit in 23 GB of memory.
 fn batch_scene(model: &Model, specialise: bool) -> Scene {
-    if specialise && !cfg!(rollslide_generic_batch_kernels) {
+    if specialise && !cfg!(any(test, rollslide_generic_batch_kernels)) {
         Scene::classify(model)
     } else {
         Scene::Generic
