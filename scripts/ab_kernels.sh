@@ -16,6 +16,9 @@
 # spread): that is why the rounds alternate and the medians are compared.
 # MALLOC_MMAP_THRESHOLD_=4000000000 in the environment places the driver's arrays differently,
 # another placement to check against.
+# Besides the medians' ratio it prints the ratios of the lower quartiles and of the minima: on a
+# shared virtual machine whose runs of one binary fall into a fast and a slow mode (up to 1.7x
+# apart), the fast mode is what compares the code.
 set -euo pipefail
 before=$1
 after=$2
@@ -42,9 +45,13 @@ v = collections.defaultdict(list)
 for line in open(sys.argv[1]):
     side, row, ns = line.split()
     v[(row, side)].append(float(ns))
+def quartile(x):
+    return sorted(x)[(len(x) - 1) // 4]
 for row in sorted({r for r, _ in v}):
     b, a = v.get((row, "before")), v.get((row, "after"))
     if b and a:
         mb, ma = statistics.median(b), statistics.median(a)
-        print(f"{row:48s} before {mb:7.2f}  after {ma:7.2f}  ratio {ma / mb:.3f}  (n={len(b)})")
+        print(f"{row:48s} before {mb:7.2f}  after {ma:7.2f}  ratio {ma / mb:.3f}"
+              f"  lower quartile {quartile(a) / quartile(b):.3f}  min {min(a) / min(b):.3f}"
+              f"  (n={len(b)})")
 PY
