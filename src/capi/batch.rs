@@ -486,109 +486,141 @@ fn scalar_f32<const S: u8, const P: bool, A: CAccess>(
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::*;
-    use crate::capi::lanes_x86::{F32x16, F32x8N, F32x8W, F64x4, F64x4x2, F64x8};
+    //! The SIMD kernels, one module per level and precision (and one for the decomposition):
+    //! rustc puts a generic function's instances in the codegen unit of the module that defines
+    //! it, so that with `codegen-units` above 1 (Cargo.toml) these families of kernels, most of
+    //! the library's code, are optimised in parallel rather than all in one unit.
+    pub(super) use avx2_double::avx2_f64;
+    pub(super) use avx2_single::avx2_f32;
+    pub(super) use avx512_double::avx512_f64;
+    pub(super) use avx512_single::avx512_f32;
+    pub(super) use decompose::{decompose_avx2, decompose_avx512};
 
-    /// # Safety
-    /// The CPU must support AVX2 and FMA.
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn avx2_f64<const S: u8, const P: bool, A: CAccess>(
-        m: &Model,
-        dt: f64,
-        a: &mut A,
-    ) -> BatchReport {
-        // Eight lanes in two ymm registers, each operation two independent instructions.
-        // With four lanes in one (`F64x4`) the step took 6-19% more time on the Zen 5 host of
-        // docs/performance.md (A at 1.2M contacts in both array placements, and B; 5 or 3
-        // alternating runs of scripts/ab_kernels.sh: full LAMMPS set 37.9 against 33.5 ns per
-        // contact, sliding 32.0 against 25.8), although it has half the register pressure:
-        // likely because per step of the block it pays the slip and validity bookkeeping for
-        // half as many contacts, and the clips' "any lane slips" branches are less predictable
-        // over 4 lanes. (On the Zen 4 host, with the earlier kernel, the two
-        // measured the same: 55.3 against 55.2 ns.)
-        // SAFETY: the caller guarantees AVX2.
-        step_kernel::<F64x4x2, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
-    }
+    mod avx2_double {
+        use super::super::*;
+        use crate::capi::lanes_x86::F64x4x2;
 
-    /// # Safety
-    /// The CPU must support AVX2 and FMA.
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn avx2_f32<const S: u8, const P: bool, A: CAccess>(
-        m: &Model,
-        dt: f64,
-        a: &mut A,
-    ) -> BatchReport {
-        // SAFETY: the caller guarantees AVX2.
-        step_kernel::<F32x8N, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
-    }
-
-    /// # Safety
-    /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn avx512_f64<const S: u8, const P: bool, A: CAccess>(
-        m: &Model,
-        dt: f64,
-        a: &mut A,
-    ) -> BatchReport {
-        // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-        step_kernel::<F64x8, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
-    }
-
-    /// # Safety
-    /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn avx512_f32<const S: u8, const P: bool, A: CAccess>(
-        m: &Model,
-        dt: f64,
-        a: &mut A,
-    ) -> BatchReport {
-        // Sixteen lanes in one zmm (the geometry in two zmm of doubles), where the double kernel
-        // has eight: against eight single lanes in a ymm (`F32x8W`) the step took 10-17% less
-        // time in cache and 5-16% less at 1.2M contacts on the Zen 5 host of
-        // docs/performance.md (A, alternating runs of scripts/ab_kernels.sh). Two such steps
-        // fill a block of 32 contacts.
-        // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-        step_kernel::<F32x16, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
-    }
-
-    /// # Safety
-    /// The CPU must support AVX2 and FMA.
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn decompose_avx2<const P: bool, A: DecomposeAccess>(
-        o: GeometryOptions,
-        p: Parts,
-        f32: bool,
-        a: &mut A,
-    ) -> BatchReport {
-        if f32 {
-            decompose_kernel::<P, F32x8N, A>(o, p, a)
-        } else {
-            // Four lanes. Eight in two ymm did not pay here: on `F64x4x2` (shared with the
-            // step) the step kernels compiled to different code that ran 4-7% slower in cache
-            // and lost most of their full-set gain at 1.2M contacts; on a separate 8-lane type
-            // (the step's code unchanged) the decomposition itself ran 9-11% slower than on
-            // four lanes (A, 2,000 and 1.2M contacts, alternating runs: 21.1 against 23.0 and
-            // 22.6 against 25.1 ns per contact).
-            decompose_kernel::<P, F64x4, A>(o, p, a)
+        /// # Safety
+        /// The CPU must support AVX2 and FMA.
+        #[target_feature(enable = "avx2,fma")]
+        pub(in crate::capi::batch) unsafe fn avx2_f64<const S: u8, const P: bool, A: CAccess>(
+            m: &Model,
+            dt: f64,
+            a: &mut A,
+        ) -> BatchReport {
+            // Eight lanes in two ymm registers, each operation two independent instructions.
+            // With four lanes in one (`F64x4`) the step took 6-19% more time on the Zen 5 host of
+            // docs/performance.md (A at 1.2M contacts in both array placements, and B; 5 or 3
+            // alternating runs of scripts/ab_kernels.sh: full LAMMPS set 37.9 against 33.5 ns per
+            // contact, sliding 32.0 against 25.8), although it has half the register pressure:
+            // likely because per step of the block it pays the slip and validity bookkeeping for
+            // half as many contacts, and the clips' "any lane slips" branches are less predictable
+            // over 4 lanes. (On the Zen 4 host, with the earlier kernel, the two
+            // measured the same: 55.3 against 55.2 ns.)
+            // SAFETY: the caller guarantees AVX2.
+            step_kernel::<F64x4x2, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
         }
     }
 
-    /// # Safety
-    /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-    pub(super) unsafe fn decompose_avx512<const P: bool, A: DecomposeAccess>(
-        o: GeometryOptions,
-        p: Parts,
-        f32: bool,
-        a: &mut A,
-    ) -> BatchReport {
-        if f32 {
-            // Eight lanes in a ymm. Sixteen in a zmm (`F32x16`, as the step kernels run, with
-            // 16-slot rows) took 1.12x the time in cache and 1.31x at 1.2M contacts (A,
-            // alternating runs: 14.4 against 16.1 and 17.8 against 23.3 ns per contact).
-            decompose_kernel::<P, F32x8W, A>(o, p, a)
-        } else {
-            decompose_kernel::<P, F64x8, A>(o, p, a)
+    mod avx2_single {
+        use super::super::*;
+        use crate::capi::lanes_x86::F32x8N;
+
+        /// # Safety
+        /// The CPU must support AVX2 and FMA.
+        #[target_feature(enable = "avx2,fma")]
+        pub(in crate::capi::batch) unsafe fn avx2_f32<const S: u8, const P: bool, A: CAccess>(
+            m: &Model,
+            dt: f64,
+            a: &mut A,
+        ) -> BatchReport {
+            // SAFETY: the caller guarantees AVX2.
+            step_kernel::<F32x8N, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
+        }
+    }
+
+    mod avx512_double {
+        use super::super::*;
+        use crate::capi::lanes_x86::F64x8;
+
+        /// # Safety
+        /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+        #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+        pub(in crate::capi::batch) unsafe fn avx512_f64<const S: u8, const P: bool, A: CAccess>(
+            m: &Model,
+            dt: f64,
+            a: &mut A,
+        ) -> BatchReport {
+            // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
+            step_kernel::<F64x8, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
+        }
+    }
+
+    mod avx512_single {
+        use super::super::*;
+        use crate::capi::lanes_x86::F32x16;
+
+        /// # Safety
+        /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+        #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+        pub(in crate::capi::batch) unsafe fn avx512_f32<const S: u8, const P: bool, A: CAccess>(
+            m: &Model,
+            dt: f64,
+            a: &mut A,
+        ) -> BatchReport {
+            // Sixteen lanes in one zmm (the geometry in two zmm of doubles), where the double
+            // kernel has eight: against eight single lanes in a ymm (`F32x8W`) the step took 10-17%
+            // less time in cache and 5-16% less at 1.2M contacts on the Zen 5 host of
+            // docs/performance.md (A, alternating runs of scripts/ab_kernels.sh). Two such steps
+            // fill a block of 32 contacts.
+            // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
+            step_kernel::<F32x16, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
+        }
+    }
+
+    mod decompose {
+        use super::super::*;
+        use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4, F64x8};
+
+        /// # Safety
+        /// The CPU must support AVX2 and FMA.
+        #[target_feature(enable = "avx2,fma")]
+        pub(in crate::capi::batch) unsafe fn decompose_avx2<const P: bool, A: DecomposeAccess>(
+            o: GeometryOptions,
+            p: Parts,
+            f32: bool,
+            a: &mut A,
+        ) -> BatchReport {
+            if f32 {
+                decompose_kernel::<P, F32x8N, A>(o, p, a)
+            } else {
+                // Four lanes. Eight in two ymm did not pay here: on `F64x4x2` (shared with the
+                // step) the step kernels compiled to different code that ran 4-7% slower in cache
+                // and lost most of their full-set gain at 1.2M contacts; on a separate 8-lane type
+                // (the step's code unchanged) the decomposition itself ran 9-11% slower than on
+                // four lanes (A, 2,000 and 1.2M contacts, alternating runs: 21.1 against 23.0 and
+                // 22.6 against 25.1 ns per contact).
+                decompose_kernel::<P, F64x4, A>(o, p, a)
+            }
+        }
+
+        /// # Safety
+        /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
+        #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+        pub(in crate::capi::batch) unsafe fn decompose_avx512<const P: bool, A: DecomposeAccess>(
+            o: GeometryOptions,
+            p: Parts,
+            f32: bool,
+            a: &mut A,
+        ) -> BatchReport {
+            if f32 {
+                // Eight lanes in a ymm. Sixteen in a zmm (`F32x16`, as the step kernels run, with
+                // 16-slot rows) took 1.12x the time in cache and 1.31x at 1.2M contacts (A,
+                // alternating runs: 14.4 against 16.1 and 17.8 against 23.3 ns per contact).
+                decompose_kernel::<P, F32x8W, A>(o, p, a)
+            } else {
+                decompose_kernel::<P, F64x8, A>(o, p, a)
+            }
         }
     }
 }

@@ -126,6 +126,9 @@ pub struct rsl_decomposition {
 }
 
 impl From<&Decomposition<f64>> for rsl_decomposition {
+    // Inline: the SIMD decomposition kernels deliver through it, and with several codegen units
+    // (Cargo.toml) a plain function here was left out of line, a call per contact.
+    #[inline]
     fn from(d: &Decomposition<f64>) -> Self {
         let g = &d.geometry;
         rsl_decomposition {
