@@ -5,7 +5,7 @@
 # runs close in time are what shows a change of a few percent on a host where single runs of
 # a row scatter by more.
 #
-#   scripts/ab_kernels.sh BEFORE.a AFTER.a [CONTACTS, 1200000] [ROUNDS, 5] [ROW SUBSTRING] [driver options...]
+#   [REPS=N] scripts/ab_kernels.sh BEFORE.a AFTER.a [CONTACTS, 1200000] [ROUNDS, 5] [ROW SUBSTRING] [driver options...]
 #
 # Build the two libraries with separate target directories, e.g.
 #   git stash; cargo build --release --lib; cp target/release/librollslide.a /tmp/before.a; git stash pop
@@ -19,6 +19,14 @@
 # Besides the medians' ratio it prints the ratios of the lower quartiles and of the minima: on a
 # shared virtual machine whose runs of one binary fall into a fast and a slow mode (up to 1.7x
 # apart), the fast mode is what compares the code.
+# REPS (environment, default 3) is the number of timed calls per row and run, of which the
+# driver reports the fastest. On the 2-core Zen 3 virtual machine of docs/performance.md the
+# slow mode comes and goes while a process runs (the SIMD rows more than the hand-written
+# loops; with address-space randomisation off, one stack offset gave both modes), so more
+# calls per run find the fast one: in cache, six runs of 40 calls gave the double AVX2 full
+# set 52.8-56.4 ns per contact in five of them (74.0 in one), where six runs of 3 calls gave
+# 59.7-105.8. With REPS=15 in cache (6-8 rounds) the minima of the hand-written loops, the
+# same code on both sides, differed by at most 3%.
 set -euo pipefail
 before=$1
 after=$2
@@ -35,7 +43,7 @@ for side in before after; do
 done
 for _ in $(seq "$rounds"); do
   for side in before after; do
-    "$tmp/$side" "$contacts" 3 --workload=A --only="$only" "$@" 2>&1 |
+    "$tmp/$side" "$contacts" "${REPS:-3}" --workload=A --only="$only" "$@" 2>&1 |
       awk -v s="$side" '/^row/ && $2 != "floor" && $3 !~ /^floor/ {print s, $2 ":" $3, $4}'
   done
 done >"$tmp/runs"
