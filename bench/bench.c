@@ -9,8 +9,8 @@
  *             SUBSTRING, or only the row NAME with --only='NAME$' (the baselines and floors
  *             always run; for profiling). --set: only the physics set NAME (full, rolltwist
  *             or sliding, below). --level: the SIMD level of the rows that otherwise run
- *             at the best one (history_, contacts_, decompose_; default auto), e.g. to time the
- *             contact-major call of an AVX2 host on an AVX-512 one.
+ *             at the best one (history_, indexed_, contacts_, decompose_; default auto),
+ *             e.g. to time the contact-major call of an AVX2 host on an AVX-512 one.
  *
  * Workloads (both: particle radii 0.49-0.50, centres jittered by +-1e-3, every listed contact
  * overlapping by 0.007-0.033, normal force k_n * overlap):
@@ -92,6 +92,10 @@
  *                   best level (or --level's); the records are unpacked into the states for
  *                   the diff (the fields a record does not keep, and the slip flags, taken
  *                   from the baseline)
+ *   indexed_<p>_<l>  rsl_batch_step_indexed (particle-major, each contact's state in place
+ *                   in an array of one state per neighbour-list entry, 1.5 nc entries, every
+ *                   third entry a pair not in contact: see IST) at the best level (or
+ *                   --level's); the states copied back in contact order (untimed) for the diff
  *   contacts_<p>_<l>  rsl_batch_step_contacts (contact-major) at the best level (RSL_SIMD_AUTO,
  *                   or --level's; l is the level that ran); bodies pre-gathered per contact
  *                   (untimed); its loads are added to the accumulators after the call
@@ -443,15 +447,23 @@ static void finish(scene *s) {
 }
 
 static rsl_model *MODEL; /* the model of the current measurement */
-enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE, HISTORY };
+enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE, HISTORY, INDEXED };
 static int MODE;
 /* Packed histories of the history_* rows (rsl_batch_step_history): HWORDS doubles per contact,
  * room for 13. */
 static double *HIST;
 static size_t HWORDS;
+/* States of the indexed_* rows (rsl_batch_step_indexed), one per neighbour-list entry as
+ * LAMMPS' granular pair styles keep them: a list of NSTATES = 3 nc / 2 entries (rounded up)
+ * of which contact c's is entry IDX[c] = c + c / 2, so that one entry in three (the third of
+ * each run of three) is a pair not in contact, whose state is not read or written. */
+static rsl_contact_state *IST;
+static size_t *IDX, NSTATES;
 
 static void reset(scene *s) {
     memcpy(s->st, s->st0, s->nc * sizeof *s->st);
+    if (MODE == INDEXED)
+        for (size_t c = 0; c < s->nc; c++) IST[IDX[c]] = s->st0[c];
     if (MODE == HISTORY)
         for (size_t c = 0; c < s->nc; c++)
             if (rsl_history_from_state(MODEL, &s->st0[c], HIST + c * HWORDS) != RSL_OK) exit(1);
@@ -846,6 +858,10 @@ static void batch(scene *s) {
         what = "rsl_batch_step_history";
         status = rsl_batch_step_history(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, NULL, DT,
                                         &OPTS, HIST, s->f, s->t, &REP);
+    } else if (MODE == INDEXED) {
+        what = "rsl_batch_step_indexed";
+        status = rsl_batch_step_indexed(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, NULL, NULL,
+                                        DT, &OPTS, IST, NSTATES, IDX, s->f, s->t, &REP);
     } else if (MODE == DECOMPOSE) {
         what = "rsl_batch_decompose";
         status = rsl_batch_decompose(s->p, s->np, s->pairs, s->nc, NULL, &OPTS, s->dec, &REP);
@@ -1218,6 +1234,20 @@ int main(int argc, char **argv) {
                 double t = timeit(&s, batch, reps);
                 unpack_history(&s);
                 snprintf(name, sizeof name, "history_%s_%s", p, LEVEL[REP.simd & 3]);
+                row(g, name, t, 1, &s);
+            }
+            snprintf(name, sizeof name, "indexed_%s", p);
+            if (want(name)) {
+                MODE = INDEXED;
+                NSTATES = s.nc + (s.nc + 1) / 2;
+                IST = xcalloc(NSTATES, sizeof *IST);
+                IDX = xcalloc(s.nc ? s.nc : 1, sizeof *IDX);
+                for (size_t c = 0; c < s.nc; c++) IDX[c] = c + c / 2;
+                double t = timeit(&s, batch, reps);
+                for (size_t c = 0; c < s.nc; c++) s.st[c] = IST[IDX[c]];
+                free(IST);
+                free(IDX);
+                snprintf(name, sizeof name, "indexed_%s_%s", p, LEVEL[REP.simd & 3]);
                 row(g, name, t, 1, &s);
             }
             MODE = CONTACT_MAJOR;

@@ -374,6 +374,10 @@ fn main() {
                 format!("packed histories f32 {l32} (auto)"),
             ),
             (
+                format!("indexed_f64_{l64}"),
+                format!("histories in place (indexed) f64 {l64} (auto)"),
+            ),
+            (
                 "percontact_acc_c".to_string(),
                 "rsl_contact_step_accumulate".to_string(),
             ),
