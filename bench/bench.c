@@ -96,6 +96,12 @@
  *                   in an array of one state per neighbour-list entry, 1.5 nc entries, every
  *                   third entry a pair not in contact: see IST) at the best level (or
  *                   --level's); the states copied back in contact order (untimed) for the diff
+ *   floor_indexed_plain, floor_indexed_prefetch, floor_indexed,
+ *   baseline_c_indexed_plain, baseline_c_indexed_prefetch, baseline_c_indexed  the set's
+ *                   floors and hand-written loops (without and with the prefetches, and the
+ *                   faster of each) on the indexed rows' layout, contact c's state at
+ *                   IST[IDX[c]]: the floor and baseline of the indexed_* rows (run with
+ *                   the first of them)
  *   contacts_<p>_<l>  rsl_batch_step_contacts (contact-major) at the best level (RSL_SIMD_AUTO,
  *                   or --level's; l is the level that ran); bodies pre-gathered per contact
  *                   (untimed); its loads are added to the accumulators after the call
@@ -534,7 +540,8 @@ static inline double lammps_twist(double *theta, double wtw, double fn, uint32_t
 #define AHEAD 48
 /* always_inline: without it GCC 12 emitted none of these prefetches (it seems to take a function
  * whose only effect is a prefetch for one without effects, and drop its calls). */
-static inline __attribute__((always_inline)) void prefetch_contact(const scene *s, size_t e) {
+static inline __attribute__((always_inline)) void prefetch_lines(const scene *s, size_t e,
+                                                                 const rsl_contact_state *st) {
     for (int k = 0; k < 2; k++) {
         uint32_t i = s->pairs[2 * e + k];
         __builtin_prefetch(&s->p[i].position.x, 0, 2);
@@ -544,27 +551,43 @@ static inline __attribute__((always_inline)) void prefetch_contact(const scene *
         __builtin_prefetch(&s->t[i].x, 1, 2);
         __builtin_prefetch(&s->t[i].z, 1, 2);
     }
-    __builtin_prefetch(&s->st[e].sliding_spring.x, 1, 2);
-    __builtin_prefetch(&s->st[e].twisting_offaxis.x, 1, 2);
-    __builtin_prefetch(&s->st[e].slip_flags, 1, 2);
+    __builtin_prefetch(&st->sliding_spring.x, 1, 2);
+    __builtin_prefetch(&st->twisting_offaxis.x, 1, 2);
+    __builtin_prefetch(&st->slip_flags, 1, 2);
+}
+static inline __attribute__((always_inline)) void prefetch_contact(const scene *s, size_t e) {
+    prefetch_lines(s, e, &s->st[e]);
 }
 
 /* baseline_NAME: the loop over every contact of NAME_body; baseline_NAME_prefetch: the same with
- * the library's prefetches of the contact AHEAD further on. */
-#define BASELINE_LOOPS(NAME)                                                \
-    static void baseline_##NAME(scene *s) {                                 \
-        for (size_t c = 0; c < s->nc; c++) NAME##_body(s, c);               \
-    }                                                                       \
-    static void baseline_##NAME##_prefetch(scene *s) {                      \
-        size_t nc = s->nc;                                                  \
-        for (size_t c = 0; c < nc; c++) {                                   \
-            if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);             \
-            NAME##_body(s, c);                                              \
-        }                                                                   \
+ * the library's prefetches of the contact AHEAD further on. baseline_NAME_indexed(_prefetch):
+ * the same loops with contact c's state at IST[IDX[c]] (the indexed_* rows' layout), as a pair
+ * style that keeps one history per neighbour-list entry steps it in place. */
+#define BASELINE_LOOPS(NAME)                                                         \
+    static void baseline_##NAME(scene *s) {                                          \
+        for (size_t c = 0; c < s->nc; c++) NAME##_body(s, c, &s->st[c]);             \
+    }                                                                                \
+    static void baseline_##NAME##_prefetch(scene *s) {                               \
+        size_t nc = s->nc;                                                           \
+        for (size_t c = 0; c < nc; c++) {                                            \
+            if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);                      \
+            NAME##_body(s, c, &s->st[c]);                                            \
+        }                                                                            \
+    }                                                                                \
+    static void baseline_##NAME##_indexed(scene *s) {                                \
+        for (size_t c = 0; c < s->nc; c++) NAME##_body(s, c, &IST[IDX[c]]);          \
+    }                                                                                \
+    static void baseline_##NAME##_indexed_prefetch(scene *s) {                       \
+        size_t nc = s->nc;                                                           \
+        for (size_t c = 0; c < nc; c++) {                                            \
+            if (c + AHEAD < nc) prefetch_lines(s, c + AHEAD, &IST[IDX[c + AHEAD]]);  \
+            NAME##_body(s, c, &IST[IDX[c]]);                                         \
+        }                                                                            \
     }
 
 /* full: linear history sliding + rolling sds + twisting sds */
-static inline __attribute__((always_inline)) void full_body(scene *s, size_t c) {
+static inline __attribute__((always_inline)) void full_body(scene *s, size_t c,
+                                                               rsl_contact_state *st) {
     const rsl_sphere *P = s->p;
     uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
     const rsl_sphere *a = &P[i], *b = &P[j];
@@ -592,7 +615,6 @@ static inline __attribute__((always_inline)) void full_body(scene *s, size_t c) 
     for (int k = 0; k < 3; k++) vr[k] *= reff;
     double wtw = DOT(dw, n);
 
-    rsl_contact_state *st = &s->st[c];
     double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
     double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
     double th = st->twisting_angle;
@@ -625,7 +647,8 @@ BASELINE_LOOPS(full)
 
 /* rolltwist: rolling sds + twisting sds, no sliding law (the velocities are not read; the
  * sliding spring is not touched). */
-static inline __attribute__((always_inline)) void rolltwist_body(scene *s, size_t c) {
+static inline __attribute__((always_inline)) void rolltwist_body(scene *s, size_t c,
+                                                               rsl_contact_state *st) {
     const rsl_sphere *P = s->p;
     uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
     const rsl_sphere *a = &P[i], *b = &P[j];
@@ -644,7 +667,6 @@ static inline __attribute__((always_inline)) void rolltwist_body(scene *s, size_
     for (int k = 0; k < 3; k++) vr[k] *= reff;
     double wtw = DOT(dw, n);
 
-    rsl_contact_state *st = &s->st[c];
     double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
     double th = st->twisting_angle;
     double fr[3];
@@ -668,7 +690,8 @@ static inline __attribute__((always_inline)) void rolltwist_body(scene *s, size_
 BASELINE_LOOPS(rolltwist)
 
 /* sliding: linear history sliding only (the rolling spring and twisting angle not touched). */
-static inline __attribute__((always_inline)) void sliding_body(scene *s, size_t c) {
+static inline __attribute__((always_inline)) void sliding_body(scene *s, size_t c,
+                                                               rsl_contact_state *st) {
     const rsl_sphere *P = s->p;
     uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
     const rsl_sphere *a = &P[i], *b = &P[j];
@@ -689,7 +712,6 @@ static inline __attribute__((always_inline)) void sliding_body(scene *s, size_t 
     CROSS(vs, arm, n);
     for (int k = 0; k < 3; k++) vs[k] -= dv[k] - dvn * n[k];
 
-    rsl_contact_state *st = &s->st[c];
     double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
     double ft[3];
     uint32_t s1;
@@ -708,14 +730,14 @@ static inline __attribute__((always_inline)) void sliding_body(scene *s, size_t 
 BASELINE_LOOPS(sliding)
 
 /* ---- memory floor: same bytes, same access pattern, no physics ---- */
-static inline __attribute__((always_inline)) void floor_body(scene *s, size_t c) {
+static inline __attribute__((always_inline)) void floor_body(scene *s, size_t c,
+                                                            rsl_contact_state *st) {
     const rsl_sphere *P = s->p;
     uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
     const double *a = &P[i].position.x, *b = &P[j].position.x;
     double sa = 0, sb = 0;
     for (int k = 0; k < 10; k++) sa += a[k], sb += b[k];
     double x = (sa - sb) * 1e-30 + s->fn[c] * 1e-30;
-    rsl_contact_state *st = &s->st[c];
     double *q = &st->sliding_spring.x;
     for (int k = 0; k < 13; k++) q[k] += x;
     st->slip_flags ^= 1;
@@ -726,7 +748,7 @@ static inline __attribute__((always_inline)) void floor_body(scene *s, size_t c)
 }
 
 static void floor_plain(scene *s) {
-    for (size_t c = 0; c < s->nc; c++) floor_body(s, c);
+    for (size_t c = 0; c < s->nc; c++) floor_body(s, c, &s->st[c]);
 }
 
 /* With the library's prefetches (prefetch_contact). */
@@ -734,7 +756,20 @@ static void floor_prefetch(scene *s) {
     size_t nc = s->nc;
     for (size_t c = 0; c < nc; c++) {
         if (c + AHEAD < nc) prefetch_contact(s, c + AHEAD);
-        floor_body(s, c);
+        floor_body(s, c, &s->st[c]);
+    }
+}
+
+/* The same two on the indexed rows' layout (contact c's state at IST[IDX[c]]). */
+static void floor_indexed_plain(scene *s) {
+    for (size_t c = 0; c < s->nc; c++) floor_body(s, c, &IST[IDX[c]]);
+}
+
+static void floor_indexed_prefetch(scene *s) {
+    size_t nc = s->nc;
+    for (size_t c = 0; c < nc; c++) {
+        if (c + AHEAD < nc) prefetch_lines(s, c + AHEAD, &IST[IDX[c + AHEAD]]);
+        floor_body(s, c, &IST[IDX[c]]);
     }
 }
 
@@ -1144,6 +1179,11 @@ int main(int argc, char **argv) {
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
                                                  baseline_sliding_prefetch};
+    void (*baseline_indexed[NSETS])(scene *) = {baseline_full_indexed, baseline_rolltwist_indexed,
+                                                baseline_sliding_indexed};
+    void (*baseline_indexed_prefetch[NSETS])(scene *) = {baseline_full_indexed_prefetch,
+                                                         baseline_rolltwist_indexed_prefetch,
+                                                         baseline_sliding_indexed_prefetch};
     rsl_model *set_model[NSETS] = {make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 1),
                                    make_model(RSL_PRESET_LAMMPS_2021, 0, 1, 1),
                                    make_model(RSL_PRESET_LAMMPS_2021, 1, 0, 0)};
@@ -1210,6 +1250,7 @@ int main(int argc, char **argv) {
             row(g, "percontact_fill64_c", timeit(&s, percontact_fill64, reps), 1, &s);
             host_arrays_free(&s);
         }
+        int indexed_baselines = 0; /* the indexed layout's floor and loops measured */
         for (int prec = 0; prec < 2; prec++) {
             const char *p = prec ? "f32" : "f64";
             memset(&OPTS, 0, sizeof OPTS);
@@ -1243,6 +1284,23 @@ int main(int argc, char **argv) {
                 IST = xcalloc(NSTATES, sizeof *IST);
                 IDX = xcalloc(s.nc ? s.nc : 1, sizeof *IDX);
                 for (size_t c = 0; c < s.nc; c++) IDX[c] = c + c / 2;
+                if (!indexed_baselines) {
+                    /* The floor and the hand-written loops on the same layout (once per set,
+                     * with the first indexed row). */
+                    indexed_baselines = 1;
+                    double fp = timeit(&s, floor_indexed_plain, reps);
+                    double ff = timeit(&s, floor_indexed_prefetch, reps);
+                    row(g, "floor_indexed_plain", fp, 0, &s);
+                    row(g, "floor_indexed_prefetch", ff, 0, &s);
+                    row(g, "floor_indexed", fmin(fp, ff), 0, &s);
+                    double tp = timeit(&s, baseline_indexed[set], reps);
+                    for (size_t c = 0; c < s.nc; c++) s.st[c] = IST[IDX[c]];
+                    row(g, "baseline_c_indexed_plain", tp, 1, &s);
+                    double tf = timeit(&s, baseline_indexed_prefetch[set], reps);
+                    for (size_t c = 0; c < s.nc; c++) s.st[c] = IST[IDX[c]];
+                    row(g, "baseline_c_indexed_prefetch", tf, 1, &s);
+                    row(g, "baseline_c_indexed", fmin(tp, tf), 1, &s);
+                }
                 double t = timeit(&s, batch, reps);
                 for (size_t c = 0; c < s.nc; c++) s.st[c] = IST[IDX[c]];
                 free(IST);

@@ -168,12 +168,31 @@ fn median_ratio(runs: &[Run], group: &str, name: &str, reference: &str) -> f64 {
 /// Suffix of the rows measured on the no-slip histories (compared with `baseline_c[noslip]`).
 const NOSLIP: &str = "[noslip]";
 
-/// The baseline a row is divided by: the one measured on the same histories.
+/// Rows measured on the indexed layout (each contact's state in place in an array of 1.5
+/// states per contact): `rsl_batch_step_indexed` and its own floor and hand-written loops.
+fn indexed(name: &str) -> bool {
+    ["indexed_", "baseline_c_indexed", "floor_indexed"]
+        .iter()
+        .any(|p| name.starts_with(p))
+}
+
+/// The baseline a row is divided by: the one measured on the same histories and layout.
 fn reference(name: &str) -> &'static str {
     if name.ends_with(NOSLIP) {
         "baseline_c[noslip]"
+    } else if indexed(name) {
+        "baseline_c_indexed"
     } else {
         "baseline_c"
+    }
+}
+
+/// The memory floor a row is divided by: the one of its state layout.
+fn floor_of(name: &str) -> &'static str {
+    if indexed(name) {
+        "floor_indexed"
+    } else {
+        "floor"
     }
 }
 
@@ -226,7 +245,7 @@ fn table(runs: &[Run], workload: char, contacts: usize) -> String {
             "| {n} | {} | {ns:.2} | {:.2} | {:.2} | {} | {}{flags} |\n",
             physics(row),
             median_ratio(runs, g, n, reference(n)),
-            median_ratio(runs, g, n, "floor"),
+            median_ratio(runs, g, n, floor_of(n)),
             row.loads,
             row.state,
         );
@@ -318,7 +337,9 @@ fn main() {
          the contacts (driver option --slip) starts beyond each law's limit (the info lines give \
          the fractions measured); the scalar baselines mispredict their clip branches on them. \
          Each set's baseline is the faster of its hand-written loop without and with the \
-         library's prefetches (rows baseline_c_plain and baseline_c_prefetch). \
+         library's prefetches (rows baseline_c_plain and baseline_c_prefetch). The indexed \
+         rows (each state in place in an array of 1.5 per contact) are divided by the floor \
+         and the baseline measured on that layout (floor_indexed, baseline_c_indexed). \
          Rows marked [noslip] (\"no slip\" in the summary) run on the same histories with every \
          spring below its limit (no clip taken: the baselines' best case) and are divided by \
          the baseline on those histories. The rows are described \
@@ -372,6 +393,14 @@ fn main() {
             (
                 format!("history_f32_{l32}"),
                 format!("packed histories f32 {l32} (auto)"),
+            ),
+            (
+                "baseline_c_indexed".to_string(),
+                "histories in place: C baseline: ns/contact".to_string(),
+            ),
+            (
+                "floor_indexed".to_string(),
+                "histories in place: memory floor".to_string(),
             ),
             (
                 format!("indexed_f64_{l64}"),
