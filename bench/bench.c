@@ -1061,6 +1061,28 @@ static void run_baseline(scene *s, const char *group, const char *suffix, void (
            100.0 * (double)slips[2] / nc);
 }
 
+/* The states in contact order in s->st (for the diff): the indexed layout's copied back. */
+static void collect_states(scene *s) {
+    if (MODE == INDEXED)
+        for (size_t c = 0; c < s->nc; c++) s->st[c] = IST[IDX[c]];
+}
+
+/* Times a loop without and with prefetches and prints rows NAME_plain, NAME_prefetch and NAME
+ * (the faster), the results compared with the baseline's when `compare`. */
+static void run_pair(scene *s, const char *group, const char *name, void (*plain)(scene *),
+                     void (*prefetch)(scene *), int reps, int compare) {
+    char label[64];
+    double tp = timeit(s, plain, reps);
+    collect_states(s);
+    snprintf(label, sizeof label, "%s_plain", name);
+    row(group, label, tp, compare, s);
+    double tf = timeit(s, prefetch, reps);
+    collect_states(s);
+    snprintf(label, sizeof label, "%s_prefetch", name);
+    row(group, label, tf, compare, s);
+    row(group, name, fmin(tp, tf), compare, s);
+}
+
 static void check(int32_t status, const char *what) {
     if (status != RSL_OK) {
         fprintf(stderr, "%s failed: %s (%s)\n", what, rsl_status_str(status),
@@ -1233,10 +1255,7 @@ int main(int argc, char **argv) {
     for (int set = 0; set < NSETS; set++) {
         const char *g = set_name[set];
         if (ONLY_SET && strcmp(ONLY_SET, g) != 0) continue;
-        double tp = timeit(&s, floor_plain, reps), tf = timeit(&s, floor_prefetch, reps);
-        row(g, "floor_plain", tp, 0, &s);
-        row(g, "floor_prefetch", tf, 0, &s);
-        row(g, "floor", fmin(tp, tf), 0, &s);
+        run_pair(&s, g, "floor", floor_plain, floor_prefetch, reps, 0);
         s.st0 = s.st0_slip;
         run_baseline(&s, g, "", baseline[set], baseline_prefetch[set], reps);
         MODEL = set_model[set];
@@ -1288,21 +1307,13 @@ int main(int argc, char **argv) {
                     /* The floor and the hand-written loops on the same layout (once per set,
                      * with the first indexed row). */
                     indexed_baselines = 1;
-                    double fp = timeit(&s, floor_indexed_plain, reps);
-                    double ff = timeit(&s, floor_indexed_prefetch, reps);
-                    row(g, "floor_indexed_plain", fp, 0, &s);
-                    row(g, "floor_indexed_prefetch", ff, 0, &s);
-                    row(g, "floor_indexed", fmin(fp, ff), 0, &s);
-                    double tp = timeit(&s, baseline_indexed[set], reps);
-                    for (size_t c = 0; c < s.nc; c++) s.st[c] = IST[IDX[c]];
-                    row(g, "baseline_c_indexed_plain", tp, 1, &s);
-                    double tf = timeit(&s, baseline_indexed_prefetch[set], reps);
-                    for (size_t c = 0; c < s.nc; c++) s.st[c] = IST[IDX[c]];
-                    row(g, "baseline_c_indexed_prefetch", tf, 1, &s);
-                    row(g, "baseline_c_indexed", fmin(tp, tf), 1, &s);
+                    run_pair(&s, g, "floor_indexed", floor_indexed_plain, floor_indexed_prefetch,
+                             reps, 0);
+                    run_pair(&s, g, "baseline_c_indexed", baseline_indexed[set],
+                             baseline_indexed_prefetch[set], reps, 1);
                 }
                 double t = timeit(&s, batch, reps);
-                for (size_t c = 0; c < s.nc; c++) s.st[c] = IST[IDX[c]];
+                collect_states(&s);
                 free(IST);
                 free(IDX);
                 snprintf(name, sizeof name, "indexed_%s_%s", p, LEVEL[REP.simd & 3]);
