@@ -1033,54 +1033,54 @@ static void row(const char *group, const char *name, double ns, int compare, con
     fflush(stdout);
 }
 
-/* Times a set's baseline with and without prefetches, keeps the results of the first as the
- * reference of the rows that follow (the second is compared with them), prints a row for each
- * and a row "baseline_c<suffix>" with the faster time (the one the ratios use), and the fraction
- * of contacts at each limit. */
-static void run_baseline(scene *s, const char *group, const char *suffix, void (*plain)(scene *),
-                         void (*prefetch)(scene *), int reps) {
-    char name[64];
-    double tp = timeit(s, plain, reps);
-    memcpy(REF_F, s->f, s->np * sizeof *REF_F);
-    memcpy(REF_T, s->t, s->np * sizeof *REF_T);
-    memcpy(REF_ST, s->st, s->nc * sizeof *REF_ST);
-    snprintf(name, sizeof name, "baseline_c_plain%s", suffix);
-    row(group, name, tp, 1, s);
-    double tf = timeit(s, prefetch, reps);
-    snprintf(name, sizeof name, "baseline_c_prefetch%s", suffix);
-    row(group, name, tf, 1, s);
-    snprintf(name, sizeof name, "baseline_c%s", suffix);
-    row(group, name, fmin(tp, tf), 1, s);
-    size_t slips[3] = {0, 0, 0};
-    for (size_t c = 0; c < s->nc; c++)
-        for (int b = 0; b < 3; b++) slips[b] += (REF_ST[c].slip_flags >> b) & 1;
-    double nc = (double)s->nc;
-    printf("info %s, %s: contacts at their limit in the step: sliding %.1f%%, rolling %.1f%%, "
-           "twisting %.1f%%\n",
-           group, name, 100.0 * (double)slips[0] / nc, 100.0 * (double)slips[1] / nc,
-           100.0 * (double)slips[2] / nc);
-}
-
 /* The states in contact order in s->st (for the diff): the indexed layout's copied back. */
 static void collect_states(scene *s) {
     if (MODE == INDEXED)
         for (size_t c = 0; c < s->nc; c++) s->st[c] = IST[IDX[c]];
 }
 
-/* Times a loop without and with prefetches and prints rows NAME_plain, NAME_prefetch and NAME
- * (the faster), the results compared with the baseline's when `compare`. */
-static void run_pair(scene *s, const char *group, const char *name, void (*plain)(scene *),
-                     void (*prefetch)(scene *), int reps, int compare) {
+/* The baseline's results, the reference the rows that follow are compared with. */
+static void keep_reference(scene *s) {
+    memcpy(REF_F, s->f, s->np * sizeof *REF_F);
+    memcpy(REF_T, s->t, s->np * sizeof *REF_T);
+    memcpy(REF_ST, s->st, s->nc * sizeof *REF_ST);
+}
+
+/* Times a loop without and with prefetches and prints rows NAME_plain<suffix>,
+ * NAME_prefetch<suffix> and NAME<suffix> (the faster, the one the ratios use), the results
+ * compared with the reference when `compare`; `after_plain` (if any) runs on the first loop's
+ * results before its row. */
+static void run_pair(scene *s, const char *group, const char *name, const char *suffix,
+                     void (*plain)(scene *), void (*prefetch)(scene *), int reps, int compare,
+                     void (*after_plain)(scene *)) {
     char label[64];
     double tp = timeit(s, plain, reps);
     collect_states(s);
-    snprintf(label, sizeof label, "%s_plain", name);
+    if (after_plain) after_plain(s);
+    snprintf(label, sizeof label, "%s_plain%s", name, suffix);
     row(group, label, tp, compare, s);
     double tf = timeit(s, prefetch, reps);
     collect_states(s);
-    snprintf(label, sizeof label, "%s_prefetch", name);
+    snprintf(label, sizeof label, "%s_prefetch%s", name, suffix);
     row(group, label, tf, compare, s);
-    row(group, name, fmin(tp, tf), compare, s);
+    snprintf(label, sizeof label, "%s%s", name, suffix);
+    row(group, label, fmin(tp, tf), compare, s);
+}
+
+/* Times a set's baseline (run_pair), keeps the results of the loop without prefetches as the
+ * reference of the rows that follow (the one with them is compared with it), and prints the
+ * fraction of contacts at each limit. */
+static void run_baseline(scene *s, const char *group, const char *suffix, void (*plain)(scene *),
+                         void (*prefetch)(scene *), int reps) {
+    run_pair(s, group, "baseline_c", suffix, plain, prefetch, reps, 1, keep_reference);
+    size_t slips[3] = {0, 0, 0};
+    for (size_t c = 0; c < s->nc; c++)
+        for (int b = 0; b < 3; b++) slips[b] += (REF_ST[c].slip_flags >> b) & 1;
+    double nc = (double)s->nc;
+    printf("info %s, baseline_c%s: contacts at their limit in the step: sliding %.1f%%, "
+           "rolling %.1f%%, twisting %.1f%%\n",
+           group, suffix, 100.0 * (double)slips[0] / nc, 100.0 * (double)slips[1] / nc,
+           100.0 * (double)slips[2] / nc);
 }
 
 static void check(int32_t status, const char *what) {
@@ -1255,7 +1255,7 @@ int main(int argc, char **argv) {
     for (int set = 0; set < NSETS; set++) {
         const char *g = set_name[set];
         if (ONLY_SET && strcmp(ONLY_SET, g) != 0) continue;
-        run_pair(&s, g, "floor", floor_plain, floor_prefetch, reps, 0);
+        run_pair(&s, g, "floor", "", floor_plain, floor_prefetch, reps, 0, NULL);
         s.st0 = s.st0_slip;
         run_baseline(&s, g, "", baseline[set], baseline_prefetch[set], reps);
         MODEL = set_model[set];
@@ -1307,10 +1307,10 @@ int main(int argc, char **argv) {
                     /* The floor and the hand-written loops on the same layout (once per set,
                      * with the first indexed row). */
                     indexed_baselines = 1;
-                    run_pair(&s, g, "floor_indexed", floor_indexed_plain, floor_indexed_prefetch,
-                             reps, 0);
-                    run_pair(&s, g, "baseline_c_indexed", baseline_indexed[set],
-                             baseline_indexed_prefetch[set], reps, 1);
+                    run_pair(&s, g, "floor_indexed", "", floor_indexed_plain,
+                             floor_indexed_prefetch, reps, 0, NULL);
+                    run_pair(&s, g, "baseline_c_indexed", "", baseline_indexed[set],
+                             baseline_indexed_prefetch[set], reps, 1, NULL);
                 }
                 double t = timeit(&s, batch, reps);
                 collect_states(&s);
