@@ -14,8 +14,8 @@
 # (`core::array::from_fn` building the group's body references, and a closure of the
 # block's row reader), and on those once found in the indexed-state store
 # (`get_disjoint_mut`, `array::map`) or that it could leave there (a function or closure of
-# `batch::states`): each cost a call, and its arguments and results through memory, per
-# group of contacts.
+# `batch::states` or `capi::indexed`): each cost a call, and its arguments and results
+# through memory, per group of contacts.
 #
 #   scripts/check_kernels.sh        (builds the release library first; needs objdump)
 #   scripts/check_kernels.sh LIB    (checks the release archive LIB, built elsewhere: .ci/run
@@ -36,7 +36,7 @@ out=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
     call = 0
     # Demangled or (for section-relative targets) mangled names.
     if ($0 ~ /core_arch|nalgebra|simba|lanes_x86|rollslide::(scalar|laws|geometry|loads|decompose)|9rollslide(6scalar|4laws|8geometry|5loads|9decompose)/ ||
-        $0 ~ /core::array|4core5array|RowsAt|get_disjoint_mut|batch::states|5batch6states/)
+        $0 ~ /core::array|4core5array|RowsAt|get_disjoint_mut|batch::states|5batch6states|capi::indexed|4capi7indexed/)
       print name " calls " $NF
     next
   }

@@ -13,6 +13,7 @@ use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use rollslide::capi::contact::rsl_contact_state;
 use rollslide::capi::history::Record;
+use rollslide::capi::indexed::IndexedGroups;
 use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use rollslide::decompose::{decompose_pair, Parts, Sphere};
 use rollslide::error::Error;
@@ -1254,7 +1255,9 @@ fn step_with_states<St: ContactStates<Slot = rsl_contact_state>>(
 /// touching) and stepped through an index per contact ([`IndexedStates`]) give the bits of the
 /// same call on a buffer of the touching contacts' states: loads, states, report, in every
 /// kernel and precision, with and without per-contact sliding coefficients, with and without
-/// prefetching. The slots not indexed hold NaN (a read would refuse the contact) and keep it.
+/// prefetching; so do the C layer's [`IndexedGroups`] (what `rsl_batch_step_indexed` steps,
+/// with unchecked group addresses). The slots not indexed hold NaN (a read would refuse the
+/// contact) and keep it.
 #[test]
 fn indexed_states_step_as_a_buffer_of_states() {
     let mut rng = Rng::new(77);
@@ -1294,47 +1297,56 @@ fn indexed_states_step_as_a_buffer_of_states() {
                     let k_t = with_kt.then_some(&k_t[..]);
                     let mut buffer = sc.states.clone();
                     let want = step_with_states(&model, config, &sc, &mut buffer[..], k_t);
-                    let mut slots = vec![untouched; n_slots];
-                    for (c, &i) in index.iter().enumerate() {
-                        slots[i] = sc.states[c];
-                    }
-                    let states = IndexedStates::new(&mut slots, &index).unwrap();
-                    let got = step_with_states(&model, config, &sc, states, k_t);
-                    assert_eq!(got.1, nc > 1000, "{what}: prefetching as intended");
-                    assert_eq!(got.1, want.1, "{what}");
-                    assert_eq!(
-                        (got.0.processed, got.0.failed, got.0.first_failed),
-                        (want.0.processed, want.0.failed, want.0.first_failed),
-                        "{what}"
-                    );
-                    assert_eq!(got.0.first_error, want.0.first_error, "{what}");
-                    assert!(want.0.processed > nc / 2, "{what}: most contacts step");
-                    let bits = |v: &[rsl_vec3]| -> Vec<u64> {
-                        v.iter()
-                            .flat_map(|v| [v.x, v.y, v.z])
-                            .map(f64::to_bits)
-                            .collect()
-                    };
-                    assert_eq!(bits(&got.2), bits(&want.2), "{what}: force");
-                    assert_eq!(bits(&got.3), bits(&want.3), "{what}: torque");
-                    let mut next = 0;
-                    for (s, slot) in slots.iter().enumerate() {
-                        if index.get(next) == Some(&s) {
-                            assert_eq!(
-                                state_word_bits(slot),
-                                state_word_bits(&buffer[next]),
-                                "{what}: contact {next}"
-                            );
-                            next += 1;
-                        } else {
-                            assert_eq!(
-                                state_word_bits(slot),
-                                state_word_bits(&untouched),
-                                "{what}: slot {s} is not a contact's"
-                            );
+                    // The core's `IndexedStates`, and the C layer's wrapper of it (what
+                    // `rsl_batch_step_indexed` steps).
+                    for grouped in [false, true] {
+                        let what = format!("{what} grouped {grouped}");
+                        let mut slots = vec![untouched; n_slots];
+                        for (c, &i) in index.iter().enumerate() {
+                            slots[i] = sc.states[c];
                         }
+                        let states = IndexedStates::new(&mut slots, &index).unwrap();
+                        let got = if grouped {
+                            step_with_states(&model, config, &sc, IndexedGroups::from(states), k_t)
+                        } else {
+                            step_with_states(&model, config, &sc, states, k_t)
+                        };
+                        assert_eq!(got.1, nc > 1000, "{what}: prefetching as intended");
+                        assert_eq!(got.1, want.1, "{what}");
+                        assert_eq!(
+                            (got.0.processed, got.0.failed, got.0.first_failed),
+                            (want.0.processed, want.0.failed, want.0.first_failed),
+                            "{what}"
+                        );
+                        assert_eq!(got.0.first_error, want.0.first_error, "{what}");
+                        assert!(want.0.processed > nc / 2, "{what}: most contacts step");
+                        let bits = |v: &[rsl_vec3]| -> Vec<u64> {
+                            v.iter()
+                                .flat_map(|v| [v.x, v.y, v.z])
+                                .map(f64::to_bits)
+                                .collect()
+                        };
+                        assert_eq!(bits(&got.2), bits(&want.2), "{what}: force");
+                        assert_eq!(bits(&got.3), bits(&want.3), "{what}: torque");
+                        let mut next = 0;
+                        for (s, slot) in slots.iter().enumerate() {
+                            if index.get(next) == Some(&s) {
+                                assert_eq!(
+                                    state_word_bits(slot),
+                                    state_word_bits(&buffer[next]),
+                                    "{what}: contact {next}"
+                                );
+                                next += 1;
+                            } else {
+                                assert_eq!(
+                                    state_word_bits(slot),
+                                    state_word_bits(&untouched),
+                                    "{what}: slot {s} is not a contact's"
+                                );
+                            }
+                        }
+                        tested += 1;
                     }
-                    tested += 1;
                 }
             }
         }

@@ -18,6 +18,7 @@
 use super::contact::rsl_contact_state;
 use super::decompose::{parse_options, rsl_decompose_options};
 use super::history::Record;
+use super::indexed::IndexedGroups;
 use super::model::{live_model, rsl_model};
 use super::status::FfiError;
 #[cfg(target_arch = "x86_64")]
@@ -1313,7 +1314,7 @@ pub unsafe extern "C" fn rsl_batch_step_indexed(
             || {
                 let slots = slice_out(states, n_states, "states")?;
                 let index = slice_in(state_index, n_contacts, "state_index")?;
-                Ok(IndexedStates::new(slots, index)?)
+                Ok(IndexedGroups::from(IndexedStates::new(slots, index)?))
             },
         )
     }

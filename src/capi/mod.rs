@@ -10,6 +10,7 @@ pub mod contact;
 pub mod decompose;
 mod finite;
 pub mod history;
+pub mod indexed;
 #[cfg(target_arch = "x86_64")]
 mod lanes_x86;
 pub mod model;
