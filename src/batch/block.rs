@@ -750,11 +750,14 @@ fn step_lanes<L: Lanes>(
 }
 
 /// Steps contact `c` on its own (one-lane types: staging through rows would only add copies),
-/// reading the host's structs and delivering as [`deliver`] does.
+/// reading the host's structs and delivering as [`deliver`] does. `model` is the folded model
+/// the step reads, `host_model` the host's, which the report of a refused contact reads.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
     access: &mut A,
     model: &Model,
+    host_model: &Model,
     dt: f64,
     needs_kn: bool,
     c: usize,
@@ -799,7 +802,7 @@ fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
         );
         report.processed += 1;
     } else {
-        refuse(access, model, dt, needs_kn, c, report);
+        refuse(access, host_model, dt, needs_kn, c, report);
     }
 }
 
@@ -897,13 +900,16 @@ pub fn step_kernel<
     copy: X,
 ) -> BatchReport {
     // The SIMD kernels leave the rolling stiffness rule at run time (see `fold_for_lanes`).
-    let model = if L::N == 1 {
+    // Only the inlined step reads `folded`: the out-of-line `refuse` gets the host's `model`
+    // (the same fields, since the scene matches it). Had its address reached a call, LLVM
+    // would keep the folded model in memory and test the scene's fields at run time.
+    let folded = if L::N == 1 {
         scene::fold(Scene::from_code(S), model)
     } else {
         scene::fold_for_lanes(Scene::from_code(S), model)
     };
     const { assert!(BLOCK.is_multiple_of(L::N)) };
-    let needs_kn = needs_normal_stiffness(&model);
+    let needs_kn = needs_normal_stiffness(model);
     let n = access.len();
     let mut report = BatchReport::default();
     if super::refuse_ungatherable(&*access, n, &mut report) {
@@ -911,7 +917,7 @@ pub fn step_kernel<
     }
     if L::N == 1 {
         for c in 0..n {
-            step_one::<PREFETCH, L, A>(access, &model, dt, needs_kn, c, &mut report);
+            step_one::<PREFETCH, L, A>(access, &folded, model, dt, needs_kn, c, &mut report);
         }
         return report;
     }
@@ -925,13 +931,13 @@ pub fn step_kernel<
         block.valid = 0;
         let mut at = 0;
         while at < count {
-            step_lanes::<L>(&model, dt, needs_kn, given, at, &mut block);
+            step_lanes::<L>(&folded, dt, needs_kn, given, at, &mut block);
             at += L::N;
         }
         deliver(
             access,
             copy,
-            &model,
+            model,
             dt,
             needs_kn,
             c0,
