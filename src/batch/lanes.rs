@@ -56,6 +56,11 @@ pub trait Lanes: Real {
     type Arr<X: Copy>: Copy + std::ops::Index<usize, Output = X> + std::ops::IndexMut<usize>;
     /// A scratch array filled with `x`.
     fn arr<X: Copy>(x: X) -> Self::Arr<X>;
+    /// Whether a scene kernel on these lanes leaves the rolling stiffness rule a run-time value
+    /// instead of folding it to the scene's constant (see
+    /// [`fold_for_lanes`](super::scene::fold_for_lanes)): a choice of code generation, not of
+    /// physics (the scene has already made the rule `Given`).
+    const RUN_TIME_ROLLING_STIFFNESS_RULE: bool = false;
 }
 
 impl Lanes for f64 {

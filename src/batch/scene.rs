@@ -135,14 +135,18 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
     m
 }
 
-/// [`fold`] for the SIMD kernels: the same model, with the rolling stiffness rule left a
-/// run-time value (one branch per lane group, the same way in every lane), since
-/// [`Scene::classify`] has already made it `Given` for a scene with rolling. With the rule folded
-/// to a constant, LLVM compiled the double AVX-512 kernels of the scenes with rolling to code
-/// that took 5-8% more time in cache (the generic kernel, which reads every choice at run time,
-/// was faster than them). The per-contact steps are the other way round (3-10% slower with the
-/// rule read at run time) and keep [`fold`], as do the one-lane batch kernels (within 1% either
-/// way).
+/// [`fold`] for the SIMD kernels whose lanes set
+/// [`Lanes::RUN_TIME_ROLLING_STIFFNESS_RULE`](super::Lanes::RUN_TIME_ROLLING_STIFFNESS_RULE)
+/// (the AVX-512 ones): the same model, with the rolling stiffness rule left a run-time value
+/// (one branch per lane group, the same way in every lane), since [`Scene::classify`] has
+/// already made it `Given` for a scene with rolling. With the rule folded, LLVM compiled the
+/// double AVX-512 kernels of the scenes with rolling to code that took 5-8% more time in cache.
+/// That was measured before the scene constants reached the kernels at all (the folded model
+/// was kept in memory, see `step_kernel`), and has not been rerun on an AVX-512 host since. On
+/// AVX2 (Zen 3), after that fix, the double kernels with the rule folded as well ran 1.4% (full
+/// set) and 2.7% (rolling + twisting) fewer instructions per contact and took 4-8% less time in
+/// cache (lower quartiles of alternating runs); at 1.2M contacts the difference was within the
+/// host's noise. So the AVX2 kernels use [`fold`].
 #[inline(always)]
 pub fn fold_for_lanes(scene: Scene, model: &Model) -> Model {
     let mut m = fold(scene, model);
