@@ -7,7 +7,7 @@ use common::{full_model, scene_models, Rng};
 use rollslide::batch::history::{history_words, words_from_state};
 use rollslide::batch::{
     BatchReport, ContactStates, ContactSteps, Gather, IndexedStates, ModelSliding,
-    ParticleDecompose, ParticleSteps, Scene, SlidingOverrides, PREFETCH_MIN_BYTES,
+    ParticleDecompose, ParticleSteps, Scene, SlidingOverrides, StepAccess, PREFETCH_MIN_BYTES,
 };
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
@@ -1378,4 +1378,40 @@ fn indexed_states_refuse_bad_indices() {
         sliding: ModelSliding,
     };
     assert!(access.check().is_err(), "two indices for three contacts");
+}
+
+/// A block's index test: true exactly when the largest particle index of the contacts asked
+/// about is below the particle count, whatever lies outside the range asked about.
+#[test]
+fn a_blocks_indices_are_in_range_exactly_when_its_largest_is() {
+    let particles = vec![rsl_sphere::default(); 5];
+    let pairs = [[0u32, 4], [4, 1], [5, 0], [2, 3], [1, u32::MAX]];
+    let (mut force, mut torque) = (vec![rsl_vec3::default(); 5], vec![rsl_vec3::default(); 5]);
+    let mut states = vec![rsl_contact_state::default(); pairs.len()];
+    let access = ParticleSteps {
+        particles: &particles,
+        pairs: &pairs,
+        normal_force: &[0.0; 5],
+        normal_stiffness: None,
+        states: &mut states[..],
+        force: &mut force,
+        torque: &mut torque,
+        sliding: ModelSliding,
+    };
+    // (first, n, expected): index 4 is the last particle, 5 and u32::MAX are past it.
+    for (first, n, expected) in [
+        (0, 2, true),
+        (0, 3, false),
+        (2, 1, false),
+        (3, 1, true),
+        (3, 2, false),
+        (4, 1, false),
+    ] {
+        assert_eq!(
+            access.indices_in_range(first, n),
+            expected,
+            "contacts {first}..{}",
+            first + n
+        );
+    }
 }

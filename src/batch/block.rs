@@ -335,6 +335,7 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     b: &mut Block,
 ) {
     b.index_ok = 0;
+    let in_range = access.indices_in_range(c0, count);
     let sliding = access.sliding_overrides();
     let mut g = 0;
     while g < count {
@@ -355,7 +356,7 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
                 b.sliding_damping[i] = gamma[c];
             }
         }
-        let refs = access.group_refs(c0 + g, (count - g).min(GROUP));
+        let refs = access.group_refs(c0 + g, (count - g).min(GROUP), in_range);
         b.index_ok |= refs.index_ok << g;
         copy.bodies(refs.body1, group_mut(&mut b.body1, g));
         copy.bodies(refs.body2, group_mut(&mut b.body2, g));
