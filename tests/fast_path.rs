@@ -16,7 +16,7 @@ use rollslide::laws::model::{
     Model, Preset, RollingDamping, RollingForm, RollingLaw, RollingStiffness, SlidingLaw,
     Transport, TwistingLaw,
 };
-use rollslide::laws::step::{ContactState, StepInput, StepOutput};
+use rollslide::laws::step::{written_fields, ContactState, StepInput, StepOutput};
 use rollslide::scalar::Vec3;
 
 /// Models of every scene kernel and several generic ones (energy tracking, YADE, LIGGGHTS'
@@ -190,6 +190,51 @@ fn accepted_inputs_give_the_same_bits_over_many_steps() {
             assert!(slipped > 50, "model {k}: the clip ran only {slipped} times");
         }
     }
+}
+
+/// `written_fields` is exact: a step changes no field it leaves out (the batch kernels neither
+/// write those back nor test them again), and every field it names changes in some step.
+#[test]
+fn a_step_changes_exactly_its_written_fields() {
+    let mut rng = Rng::new(29);
+    let mut left_alone = 0;
+    for (k, model) in models().iter().enumerate() {
+        let w = written_fields(model);
+        let named = [
+            w.sliding_spring,
+            w.rolling_spring,
+            w.twisting_angle,
+            w.twisting_offaxis,
+            w.previous_normal,
+        ];
+        let mut changed = [false; 5];
+        for i in 0..100 {
+            let mut c = case(&mut rng);
+            // An off-axis part that a step could only keep by leaving it alone.
+            c.state.twisting_offaxis = rng.vec(1e-3);
+            let mut s = c.state;
+            contact_step_pair(model, &c.b1, &c.b2, &c.input, &mut s).unwrap();
+            let v3 = |v: Vec3<f64>| v.map(f64::to_bits);
+            let moved = [
+                v3(s.sliding_spring) != v3(c.state.sliding_spring),
+                v3(s.rolling_spring) != v3(c.state.rolling_spring),
+                s.twisting_angle.to_bits() != c.state.twisting_angle.to_bits(),
+                v3(s.twisting_offaxis) != v3(c.state.twisting_offaxis),
+                v3(s.previous_normal) != v3(c.state.previous_normal),
+            ];
+            for f in 0..5 {
+                assert!(
+                    named[f] || !moved[f],
+                    "model {k} case {i}: field {f} changed"
+                );
+                changed[f] |= moved[f];
+            }
+        }
+        assert_eq!(changed, named, "model {k}: a named field never changed");
+        left_alone += named.iter().filter(|&&on| !on).count();
+    }
+    // Not every field of every model: the test has fields to catch a write in.
+    assert!(left_alone >= 10, "{left_alone}");
 }
 
 #[test]

@@ -30,7 +30,10 @@ use crate::batch::{Scene, SphereSlot};
 use crate::decompose::Sphere;
 use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid};
 use crate::laws::model::Model;
-use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
+use crate::laws::step::{
+    contact_step_with_geometry, written_fields, ContactState, Partner, StepInput, StepOutput,
+    WrittenFields,
+};
 use crate::scalar::{finite_probe as probe, zero_if_finite as zf, Vec3};
 use simba::simd::SimdBool;
 
@@ -48,6 +51,17 @@ pub(crate) const BODY_WORDS: usize = 10;
 /// Doubles of a state, in the order of [`ContactState`]: sliding spring (3), rolling spring
 /// (3), twisting angle, twisting off-axis part (3), previous normal (3).
 pub(crate) const STATE_WORDS: usize = 13;
+
+/// Bit `q` set: word `q` of a state ([`STATE_WORDS`] order) belongs to a field the step can
+/// change ([`WrittenFields`]); the step leaves the others as it read them.
+pub(crate) fn written_words(f: WrittenFields) -> u16 {
+    let bits = |on: bool, first: u32, n: u32| if on { ((1u16 << n) - 1) << first } else { 0 };
+    bits(f.sliding_spring, 0, 3)
+        | bits(f.rolling_spring, 3, 3)
+        | bits(f.twisting_angle, 6, 1)
+        | bits(f.twisting_offaxis, 7, 3)
+        | bits(f.previous_normal, 10, 3)
+}
 
 // The group divides the block, and the per-block masks (`u64`) have a bit per contact. (The
 // block is a multiple of the lane count: `step_kernel` asserts it for each lane type.)
@@ -96,6 +110,14 @@ pub trait GroupCopy<P, S>: Copy {
         S: StateSlot,
     {
         store_states_by_value(rows, slip, states);
+    }
+    /// This copier, told that a step changes only the state words of `words` (bit `q`: word
+    /// `q`, [`written_words`]): its [`GroupCopy::store_states`] may then leave the other words
+    /// alone, since the states still hold what [`GroupCopy::states`] read (the default ignores
+    /// it and writes every word).
+    #[inline(always)]
+    fn writing(self, _words: u16) -> Self {
+        self
     }
     /// `out[k]` = the loads in slot `k` of `rows` (force 1, torque 1, torque 2), as
     /// [`LoadsSlot::set`] writes them (the default).
@@ -338,22 +360,30 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     let in_range = access.indices_in_range(c0, count);
     let sliding = access.sliding_overrides();
     let mut g = 0;
+    // Slot `i`'s per-contact numbers, from contact `c`.
+    let scalars = |b: &mut Block, i: usize, c: usize| {
+        if PREFETCH {
+            access.touch(c + TOUCH_AHEAD);
+        }
+        b.normal_force[i] = access.normal_force(c);
+        if needs_kn {
+            b.normal_stiffness[i] = access.normal_stiffness(c);
+        }
+        if let Some(k) = sliding.stiffness {
+            b.sliding_stiffness[i] = k[c];
+        }
+        if let Some(gamma) = sliding.damping {
+            b.sliding_damping[i] = gamma[c];
+        }
+    };
     while g < count {
-        let contact = |k: usize| c0 + (g + k).min(count - 1);
-        for k in 0..GROUP {
-            let (i, c) = (g + k, contact(k));
-            if PREFETCH {
-                access.touch(c + TOUCH_AHEAD);
+        if g + GROUP <= count {
+            for k in 0..GROUP {
+                scalars(b, g + k, c0 + g + k);
             }
-            b.normal_force[i] = access.normal_force(c);
-            if needs_kn {
-                b.normal_stiffness[i] = access.normal_stiffness(c);
-            }
-            if let Some(k) = sliding.stiffness {
-                b.sliding_stiffness[i] = k[c];
-            }
-            if let Some(gamma) = sliding.damping {
-                b.sliding_damping[i] = gamma[c];
+        } else {
+            for k in 0..GROUP {
+                scalars(b, g + k, c0 + (g + k).min(count - 1));
             }
         }
         let refs = access.group_refs(c0 + g, (count - g).min(GROUP), in_range);
@@ -569,24 +599,32 @@ fn inputs_ok<L: Lanes>(
 /// The lanes whose loads, new state and (when the model tracks energy) energy terms are
 /// finite: the per-contact checked step refuses a step whose energy terms overflow, so the
 /// batch does too, although it does not return them. `track_energy` is the (folded) model's:
-/// a constant false in every specialised scene kernel, so they test nothing more.
+/// a constant false in every specialised scene kernel, so they test nothing more. The state
+/// fields the step cannot change (`written`) are not tested again: they are as the inputs'
+/// test found them, and a lane whose inputs failed is refused whatever its results.
 #[inline(always)]
 fn results_ok<L: Lanes>(
     track_energy: bool,
+    written: WrittenFields,
     out: &StepOutput<L>,
     state: &ContactState<L>,
 ) -> L::SimdBool {
     let loads = &out.loads;
-    let mut acc = zf(state.twisting_angle);
-    for v in [
-        &loads.force1,
-        &loads.torque1,
-        &loads.torque2,
-        &state.sliding_spring,
-        &state.rolling_spring,
-        &state.twisting_offaxis,
-    ] {
+    let mut acc = L::zero();
+    for v in [&loads.force1, &loads.torque1, &loads.torque2] {
         acc = probe(acc, v);
+    }
+    if written.twisting_angle {
+        acc += zf(state.twisting_angle);
+    }
+    for (on, v) in [
+        (written.sliding_spring, &state.sliding_spring),
+        (written.rolling_spring, &state.rolling_spring),
+        (written.twisting_offaxis, &state.twisting_offaxis),
+    ] {
+        if on {
+            acc = probe(acc, v);
+        }
     }
     if track_energy {
         for e in out.energy.terms() {
@@ -642,7 +680,7 @@ fn step_inputs<L: Lanes>(
         &step_input(force, stiffness, sliding, dt),
         &mut state,
     );
-    let results_ok = results_ok(model.track_energy, &out, &state);
+    let results_ok = results_ok(model.track_energy, written_fields(model), &out, &state);
     let l = out.loads;
     LaneResults {
         state,
@@ -722,13 +760,26 @@ fn step_lanes<L: Lanes>(
         &mut state,
     );
     let l = &out.loads;
-    let valid = geometry_ok & (inputs_ok & results_ok(model.track_energy, &out, &state)).bitmask();
+    let written = written_fields(model);
+    let results_ok = results_ok(model.track_energy, written, &out, &state);
+    let valid = geometry_ok & (inputs_ok & results_ok).bitmask();
     b.valid |= (valid & lane_bits(L::N)) << at;
-    store3(rows3_mut(&mut b.state, 0), at, &state.sliding_spring);
-    store3(rows3_mut(&mut b.state, 3), at, &state.rolling_spring);
-    state.twisting_angle.store(&mut b.state[6][at..]);
-    store3(rows3_mut(&mut b.state, 7), at, &state.twisting_offaxis);
-    store3(rows3_mut(&mut b.state, 10), at, &state.previous_normal);
+    // The rows of a field the step cannot change still hold what it read.
+    if written.sliding_spring {
+        store3(rows3_mut(&mut b.state, 0), at, &state.sliding_spring);
+    }
+    if written.rolling_spring {
+        store3(rows3_mut(&mut b.state, 3), at, &state.rolling_spring);
+    }
+    if written.twisting_angle {
+        state.twisting_angle.store(&mut b.state[6][at..]);
+    }
+    if written.twisting_offaxis {
+        store3(rows3_mut(&mut b.state, 7), at, &state.twisting_offaxis);
+    }
+    if written.previous_normal {
+        store3(rows3_mut(&mut b.state, 10), at, &state.previous_normal);
+    }
     let loads: &mut [Row; 9] = &mut b.loads;
     let (force1, rest) = loads.split_at_mut(3);
     let (torque1, torque2) = rest.split_at_mut(3);
@@ -857,6 +908,10 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
         if whole {
             let slip: &[u32; GROUP] = b.slip[g..g + GROUP].try_into().expect("a group");
             access.store_group(copy, group(&b.state, g), slip, c0 + g);
+            // Every contact of the group is valid: none to report, none to store alone.
+            report.processed += GROUP;
+            g += GROUP;
+            continue;
         }
         for i in g..(g + GROUP).min(count) {
             let c = c0 + i;
@@ -864,10 +919,8 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
                 refuse(access, model, dt, needs_kn, c, report);
                 continue;
             }
-            if !whole {
-                let s = state_from_words(|q| b.state[q][i]);
-                access.state(c).store(&s, b.slip[i]);
-            }
+            let s = state_from_words(|q| b.state[q][i]);
+            access.state(c).store(&s, b.slip[i]);
             report.processed += 1;
         }
         g += GROUP;
@@ -911,6 +964,8 @@ pub fn step_kernel<
     };
     const { assert!(BLOCK.is_multiple_of(L::N)) };
     let needs_kn = needs_normal_stiffness(model);
+    // A group's states get back only the words the step can change (a constant per scene).
+    let copy = copy.writing(written_words(written_fields(&folded)));
     let n = access.len();
     let mut report = BatchReport::default();
     if super::refuse_ungatherable(&*access, n, &mut report) {

@@ -655,6 +655,11 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
     /// additions of the contact-by-contact order.
     #[inline(always)]
     fn emit_run(&mut self, c0: usize, ok: u64, loads: impl Fn(usize) -> PairLoads) {
+        // One length for both accumulators (`check` makes them equal), so that body 2's index
+        // is tested once for the two.
+        let n = self.force.len().min(self.torque.len());
+        let (forces, torques) = (&mut self.force[..n], &mut self.torque[..n]);
+        let pairs = &self.pairs[c0..];
         let mut held = usize::MAX;
         let (mut force, mut torque) = ([0.0; 3], [0.0; 3]);
         let mut bits = ok;
@@ -662,16 +667,16 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
             let k = bits.trailing_zeros() as usize;
             bits &= bits - 1;
             let l = loads(k);
-            let [i, j] = self.pairs[c0 + k];
+            let [i, j] = pairs[k];
             let (i, j) = (i as usize, j as usize);
             if i != held {
                 if held != usize::MAX {
-                    self.force[held].set(force);
-                    self.torque[held].set(torque);
+                    forces[held].set(force);
+                    torques[held].set(torque);
                 }
                 held = i;
-                force = self.force[i].get();
-                torque = self.torque[i].get();
+                force = forces[i].get();
+                torque = torques[i].get();
             }
             let reaction = [-l.force1[0], -l.force1[1], -l.force1[2]];
             for q in 0..3 {
@@ -684,13 +689,13 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
                     torque[q] += l.torque2[q];
                 }
             } else {
-                self.force[j].add(reaction);
-                self.torque[j].add(l.torque2);
+                forces[j].add(reaction);
+                torques[j].add(l.torque2);
             }
         }
         if held != usize::MAX {
-            self.force[held].set(force);
-            self.torque[held].set(torque);
+            forces[held].set(force);
+            torques[held].set(torque);
         }
     }
 }

@@ -34,15 +34,20 @@ fn doubles<S>(s: &S) -> *const f64 {
 
 /// [`GroupCopy`] with AVX2: 4 x 4 transpositions in ymm registers.
 #[derive(Clone, Copy, Debug)]
-pub struct Avx2Copy(());
+pub struct Avx2Copy {
+    /// The state words a step can change ([`GroupCopy::writing`]): the only ones written back.
+    written: u16,
+}
 
 impl Avx2Copy {
-    /// The copier, for a CPU known to have AVX2.
+    /// The copier, for a CPU known to have AVX2; it writes back every state word.
     ///
     /// # Safety
     /// The CPU must have AVX2.
     pub(crate) unsafe fn assume() -> Self {
-        Avx2Copy(())
+        Avx2Copy {
+            written: (1 << STATE_WORDS) - 1,
+        }
     }
 }
 
@@ -280,24 +285,40 @@ fn set_slip_flags_at(states: [&mut rsl_contact_state; GROUP], slip: &[u32; GROUP
     }
 }
 
-/// Writes word `q` of the state at `dst[k]` from `rows[q][k]` (its first 13 doubles) by AVX2
-/// 4 x 4 transpositions: words 0..4, 4..8, 8..12 and 9..13 (the last three written twice
-/// with the same values).
+/// Writes word `q` of the state at `dst[k]` from `rows[q][k]` (its first 13 doubles) for
+/// every word of `written` (bit `q`: word `q`), by AVX2 4 x 4 transpositions of the windows
+/// that hold one: words 0..4 (sliding spring), 3..7 (rolling spring, twisting angle), 7..11
+/// (off-axis twisting part) and 9..13 (previous normal). A window also writes its neighbours'
+/// words from their rows, which hold the values the states hold (read by the gather, or
+/// written by the step): every word of every state ends as its row says. With every word
+/// written, this is four windows as before; the LAMMPS scene kernels write two or three.
 ///
 /// # Safety
 /// The CPU must have AVX2; each `dst[k]` must be writable for a whole `rsl_contact_state` and
 /// not overlap another or the rows.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-unsafe fn avx2_rows_to_states(rows: [&GroupRow; STATE_WORDS], dst: [*mut f64; GROUP]) {
+unsafe fn avx2_rows_to_states(
+    rows: [&GroupRow; STATE_WORDS],
+    dst: [*mut f64; GROUP],
+    written: u16,
+) {
     let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
     // SAFETY: the caller's contract; a state starts with 13 doubles (asserted above), so every
     // window is inside it.
     unsafe {
-        avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
-        avx2::rows_to_words([r4, r5, r6, r7], dst, 4);
-        avx2::rows_to_words([r8, r9, r10, r11], dst, 8);
-        avx2::rows_to_words([r9, r10, r11, r12], dst, 9);
+        if written & 0b111 != 0 {
+            avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
+        }
+        if written & 0b1111 << 3 != 0 {
+            avx2::rows_to_words([r3, r4, r5, r6], dst, 3);
+        }
+        if written & 0b111 << 7 != 0 {
+            avx2::rows_to_words([r7, r8, r9, r10], dst, 7);
+        }
+        if written & 0b111 << 10 != 0 {
+            avx2::rows_to_words([r9, r10, r11, r12], dst, 9);
+        }
     }
 }
 
@@ -369,7 +390,7 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
     ) {
         // SAFETY: as in `bodies`; the pointers come from distinct `&mut` states (so they do not
         // overlap each other or the rows).
-        unsafe { avx2_rows_to_states(rows, doubles_mut(states)) };
+        unsafe { avx2_rows_to_states(rows, doubles_mut(states), self.written) };
         set_slip_flags(states, slip);
     }
 
@@ -382,8 +403,13 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
     ) {
         let dst = states.each_mut().map(|s| doubles_of(s));
         // SAFETY: as in `store_states` (distinct `&mut` states).
-        unsafe { avx2_rows_to_states(rows, dst) };
+        unsafe { avx2_rows_to_states(rows, dst, self.written) };
         set_slip_flags_at(states, slip);
+    }
+
+    #[inline(always)]
+    fn writing(self, words: u16) -> Self {
+        Avx2Copy { written: words }
     }
 
     #[inline(always)]
@@ -688,6 +714,90 @@ mod tests {
             eprintln!(
                 "transposition test: {ran} of the 2 SIMD copies ran (this CPU lacks the others)"
             );
+        }
+    }
+
+    /// A state's 13 doubles in field order (the transpositions' word order).
+    fn state_words(s: &rsl_contact_state) -> [f64; STATE_WORDS] {
+        let v = [
+            s.sliding_spring,
+            s.rolling_spring,
+            s.twisting_offaxis,
+            s.previous_normal,
+        ];
+        let [a, b, c, d] = v.map(|v| [v.x, v.y, v.z]);
+        [
+            a[0],
+            a[1],
+            a[2],
+            b[0],
+            b[1],
+            b[2],
+            s.twisting_angle,
+            c[0],
+            c[1],
+            c[2],
+            d[0],
+            d[1],
+            d[2],
+        ]
+    }
+
+    /// Told which words a step changes, the AVX2 copy writes every one of them (and the slip
+    /// flags), through the fewest of its four windows (0..4, 3..7, 7..11, 9..13), and leaves
+    /// the words outside those windows alone; through references as in place.
+    #[test]
+    fn avx2_copy_writes_back_the_windows_of_the_written_words() {
+        if !Simd::Avx2.available() {
+            eprintln!("written-words test skipped: this CPU lacks AVX2");
+            return;
+        }
+        let prev = 0b111 << 10;
+        // (words changed, words left alone): every word, the LAMMPS full set, rolling +
+        // twisting, sliding alone.
+        let cases: [(u16, &[usize]); 4] = [
+            ((1 << STATE_WORDS) - 1, &[]),
+            (0b111_1111 | prev, &[7, 8]),
+            (0b1111 << 3 | prev, &[0, 1, 2, 7, 8]),
+            (0b111 | prev, &[4, 5, 6, 7, 8]),
+        ];
+        let rows: [GroupRow; STATE_WORDS] =
+            std::array::from_fn(|q| std::array::from_fn(|k| value(5000 + 20 * k + q)));
+        let slip = [1, 2, 3, 4, 5, 6, 7, 0];
+        for (written, alone) in cases {
+            // SAFETY: the CPU has AVX2 (checked above).
+            let copy = <Avx2Copy as GroupCopy<rsl_sphere, rsl_contact_state>>::writing(
+                unsafe { Avx2Copy::assume() },
+                written,
+            );
+            let before = states();
+            let mut out: [rsl_contact_state; GROUP] = before.clone().try_into().expect("a group");
+            copy.store_states(rows.each_ref(), &slip, &mut out);
+            let mut apart = before.clone();
+            let refs: [&mut rsl_contact_state; GROUP] = apart
+                .iter_mut()
+                .collect::<Vec<_>>()
+                .try_into()
+                .expect("a group");
+            copy.store_states_at(rows.each_ref(), &slip, refs);
+            for (k, s) in out.iter().enumerate() {
+                assert_eq!(
+                    state_bits(s),
+                    state_bits(&apart[k]),
+                    "{written:#x} slot {k}"
+                );
+                assert_eq!(s.slip_flags, slip[k]);
+                assert_eq!(s.reserved, before[k].reserved);
+                let (now, old) = (state_words(s), state_words(&before[k]));
+                for q in 0..STATE_WORDS {
+                    let expected = if alone.contains(&q) {
+                        old[q]
+                    } else {
+                        rows[q][k]
+                    };
+                    assert_eq!(now[q].to_bits(), expected.to_bits(), "{written:#x} {k} {q}");
+                }
+            }
         }
     }
 

@@ -149,6 +149,38 @@ impl<T: Real> Default for ContactState<T> {
     }
 }
 
+/// Which fields of a [`ContactState`] a step can change: a step leaves every field marked
+/// `false` bit for bit as it found it. A batch kernel uses this to skip writing those fields
+/// back, and to skip testing them again after the step (they were already tested as inputs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WrittenFields {
+    /// The sliding spring: the linear sliding law is on.
+    pub sliding_spring: bool,
+    /// The rolling spring: the rolling law is EPSD (type C, the only one with a spring).
+    pub rolling_spring: bool,
+    /// The twisting angle: a twisting law is on.
+    pub twisting_angle: bool,
+    /// The off-axis twisting part: a twisting law is on and the preset transports the
+    /// twisting moment as a vector (YADE).
+    pub twisting_offaxis: bool,
+    /// The previous normal: always (every step stores its normal).
+    pub previous_normal: bool,
+}
+
+/// The [`WrittenFields`] of a step with `model`: exact for an ordinary step, and still a
+/// superset for a setup step (`StepInput::setup`), which can write fewer.
+#[inline(always)]
+pub fn written_fields(model: &Model) -> WrittenFields {
+    let twisting_on = model.twisting.law != TwistingLaw::None;
+    WrittenFields {
+        sliding_spring: model.sliding.law == SlidingLaw::Linear,
+        rolling_spring: model.rolling.law == RollingLaw::Epsd,
+        twisting_angle: twisting_on,
+        twisting_offaxis: twisting_on && model.preset.conventions().twist_vector,
+        previous_normal: true,
+    }
+}
+
 /// Energy terms of one step, split by spring (zero unless the model tracks energy).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepEnergy<T> {
