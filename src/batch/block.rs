@@ -600,8 +600,9 @@ fn inputs_ok<L: Lanes>(
 /// finite: the per-contact checked step refuses a step whose energy terms overflow, so the
 /// batch does too, although it does not return them. `track_energy` is the (folded) model's:
 /// a constant false in every specialised scene kernel, so they test nothing more. The state
-/// fields the step cannot change (`written`) are not tested again: they are as the inputs'
-/// test found them, and a lane whose inputs failed is refused whatever its results.
+/// fields outside `written`, which the step cannot change, are not tested again: they are as
+/// the inputs' test found them, and a lane whose inputs failed is refused whatever its
+/// results.
 #[inline(always)]
 fn results_ok<L: Lanes>(
     track_energy: bool,
