@@ -196,7 +196,7 @@ impl<P: SphereSlot, S: StateSlot> GroupCopy<P, S> for PortableCopy {
 
 /// The words of a state, in [`STATE_WORDS`] order.
 #[inline(always)]
-fn state_words(s: &ContactState<f64>) -> [f64; STATE_WORDS] {
+pub(crate) fn state_words(s: &ContactState<f64>) -> [f64; STATE_WORDS] {
     [
         s.sliding_spring.x,
         s.sliding_spring.y,

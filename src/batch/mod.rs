@@ -31,6 +31,8 @@ pub mod lanes;
 pub mod scene;
 pub mod states;
 
+#[cfg(test)]
+pub(crate) use block::state_words;
 pub use block::{step_kernel, GroupCopy, GroupRow, LoadRows, PortableCopy};
 pub(crate) use block::{store_loads_by_value, BODY_WORDS, GROUP, STATE_WORDS};
 pub use lanes::{Lanes, MAX_LANES};

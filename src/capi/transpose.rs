@@ -602,7 +602,7 @@ record_copy!(Avx512Copy);
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
-    use crate::batch::PortableCopy;
+    use crate::batch::{state_words, PortableCopy, StateSlot};
     use crate::capi::batch::Simd;
     use crate::capi::contact::tests::state_bits;
     use crate::capi::types::rsl_vec3;
@@ -717,32 +717,6 @@ mod tests {
         }
     }
 
-    /// A state's 13 doubles in field order (the transpositions' word order).
-    fn state_words(s: &rsl_contact_state) -> [f64; STATE_WORDS] {
-        let v = [
-            s.sliding_spring,
-            s.rolling_spring,
-            s.twisting_offaxis,
-            s.previous_normal,
-        ];
-        let [a, b, c, d] = v.map(|v| [v.x, v.y, v.z]);
-        [
-            a[0],
-            a[1],
-            a[2],
-            b[0],
-            b[1],
-            b[2],
-            s.twisting_angle,
-            c[0],
-            c[1],
-            c[2],
-            d[0],
-            d[1],
-            d[2],
-        ]
-    }
-
     /// Told which words a step changes, the AVX2 copy writes every one of them (and the slip
     /// flags), through the fewest of its four windows (0..4, 3..7, 7..11, 9..13), and leaves
     /// the words outside those windows alone; through references as in place.
@@ -788,7 +762,7 @@ mod tests {
                 );
                 assert_eq!(s.slip_flags, slip[k]);
                 assert_eq!(s.reserved, before[k].reserved);
-                let (now, old) = (state_words(s), state_words(&before[k]));
+                let (now, old) = (state_words(&s.load()), state_words(&before[k].load()));
                 for q in 0..STATE_WORDS {
                     let expected = if alone.contains(&q) {
                         old[q]
