@@ -34,7 +34,7 @@ use crate::laws::step::{
     contact_step_with_geometry, written_fields, ContactState, Partner, StepInput, StepOutput,
     WrittenFields,
 };
-use crate::scalar::{finite_probe as probe, zero_if_finite as zf, Vec3};
+use crate::scalar::Vec3;
 use simba::simd::SimdBool;
 
 /// Contacts per block: a multiple of every lane count, and small enough that a block's rows
@@ -558,21 +558,93 @@ struct LaneResults<L: Lanes> {
     slips: [u64; 3],
 }
 
+/// A running finiteness test of lanes: sums of `0 x` over the values tested, which stay zeros
+/// while every value added is finite and become NaN with the first that is not, exactly as
+/// [`finite_probe`](crate::scalar::finite_probe) does.
+///
+/// Fused (`fused`, which needs [`Lanes::FUSED_PROBE`]): each value is one fused `acc + 0 x`,
+/// one instruction per register, on one of four sums (x components, y components, z components
+/// and single values), so that no chain of dependent instructions is long. The step's results
+/// are tested at the end of a group, where a long chain holds up what follows: with a single
+/// sum the double AVX2 full-set kernel executed 3% fewer instructions but took 4% more time in
+/// cache. Otherwise a vector's three products are summed first and added to one sum, as
+/// `finite_probe` does.
+struct FiniteLanes<L: Lanes> {
+    sums: [Option<L>; 4],
+    fused: bool,
+}
+
+impl<L: Lanes> FiniteLanes<L> {
+    /// An empty test, fused if `fused` and the lanes can fuse.
+    #[inline(always)]
+    fn new(fused: bool) -> Self {
+        FiniteLanes {
+            sums: [None; 4],
+            fused: fused && L::FUSED_PROBE,
+        }
+    }
+
+    /// `sum + 0 x` on sum `i` (`0 x` alone for its first value).
+    #[inline(always)]
+    fn add_to(&mut self, i: usize, x: L) {
+        let sum = &mut self.sums[i];
+        *sum = Some(match *sum {
+            Some(acc) => L::add_zero_times(acc, x),
+            None => x * L::zero(),
+        });
+    }
+
+    /// Adds a value.
+    #[inline(always)]
+    fn add(&mut self, x: L) {
+        self.add_to(if self.fused { 3 } else { 0 }, x);
+    }
+
+    /// Adds the components of `v`.
+    #[inline(always)]
+    fn add_vec(&mut self, v: &Vec3<L>) {
+        if self.fused {
+            self.add_to(0, v.x);
+            self.add_to(1, v.y);
+            self.add_to(2, v.z);
+        } else {
+            let zero = L::zero();
+            let products = v.x * zero + v.y * zero + v.z * zero;
+            self.sums[0] = Some(self.sums[0].map_or(products, |acc| acc + products));
+        }
+    }
+
+    /// The lanes all of whose values were finite.
+    #[inline(always)]
+    fn ok(self) -> L::SimdBool {
+        let [a, b, c, d] = self.sums;
+        let pair = |p: Option<L>, q: Option<L>| match (p, q) {
+            (Some(p), Some(q)) => Some(p + q),
+            (p, q) => p.or(q),
+        };
+        let sum = pair(pair(a, b), pair(c, d)).unwrap_or_else(L::zero);
+        sum.simd_eq(L::zero())
+    }
+}
+
 /// The lanes whose inputs the per-contact checked step accepts, as far as the geometry does not
-/// show it: finite motion, state and `f_n` (of either sign), and a finite `k_n > 0` when the
-/// model reads it.
+/// show it: finite motion, state and `f_n` (of either sign), a finite `k_n > 0` (`stiffness`,
+/// given when the model reads it), and finite per-contact `k_t, gamma_t >= 0` when the call
+/// gives them. `fused`: see [`FiniteLanes`].
 #[inline(always)]
 fn inputs_ok<L: Lanes>(
     body1: &Sphere<L>,
     body2: &Sphere<L>,
     force: L,
-    stiffness: L,
-    needs_kn: bool,
+    stiffness: Option<L>,
     sliding: (Option<L>, Option<L>),
     state: &ContactState<L>,
+    fused: bool,
 ) -> L::SimdBool {
     let zero = L::zero();
-    let mut acc = zf(force) + zf(state.twisting_angle);
+    let mut finite = FiniteLanes::new(fused);
+    finite.add(force);
+    finite.add(state.twisting_angle);
     for v in [
         &body1.velocity,
         &body2.velocity,
@@ -583,15 +655,15 @@ fn inputs_ok<L: Lanes>(
         &state.twisting_offaxis,
         &state.previous_normal,
     ] {
-        acc = probe(acc, v);
+        finite.add_vec(v);
     }
-    let mut ok = acc.simd_eq(zero);
-    if needs_kn {
-        ok = ok & stiffness.simd_gt(zero) & zf(stiffness).simd_eq(zero);
+    let mut ok = finite.ok();
+    if let Some(k) = stiffness {
+        ok = ok & k.simd_gt(zero) & (k * zero).simd_eq(zero);
     }
     // Per-contact k_t and gamma_t: finite and >= 0, as the checked step requires.
     for x in [sliding.0, sliding.1].into_iter().flatten() {
-        ok = ok & x.simd_ge(zero) & zf(x).simd_eq(zero);
+        ok = ok & x.simd_ge(zero) & (x * zero).simd_eq(zero);
     }
     ok
 }
@@ -609,14 +681,15 @@ fn results_ok<L: Lanes>(
     written: WrittenFields,
     out: &StepOutput<L>,
     state: &ContactState<L>,
+    fused: bool,
 ) -> L::SimdBool {
     let loads = &out.loads;
-    let mut acc = L::zero();
+    let mut finite = FiniteLanes::new(fused);
     for v in [&loads.force1, &loads.torque1, &loads.torque2] {
-        acc = probe(acc, v);
+        finite.add_vec(v);
     }
     if written.twisting_angle {
-        acc += zf(state.twisting_angle);
+        finite.add(state.twisting_angle);
     }
     for (on, v) in [
         (written.sliding_spring, &state.sliding_spring),
@@ -624,15 +697,15 @@ fn results_ok<L: Lanes>(
         (written.twisting_offaxis, &state.twisting_offaxis),
     ] {
         if on {
-            acc = probe(acc, v);
+            finite.add_vec(v);
         }
     }
     if track_energy {
         for e in out.energy.terms() {
-            acc += zf(e);
+            finite.add(e);
         }
     }
-    acc.simd_eq(L::zero())
+    finite.ok()
 }
 
 /// The step input of `L::N` contacts.
@@ -672,7 +745,9 @@ fn step_inputs<L: Lanes>(
     let (force, stiffness) = source.forces(needs_kn);
     let sliding = source.sliding(given);
     let mut state = source.state();
-    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, sliding, &state);
+    let fused = L::FUSED_PROBE;
+    let kn = needs_kn.then_some(stiffness);
+    let inputs_ok = inputs_ok(&body1, &body2, force, kn, sliding, &state, fused);
     let out = contact_step_with_geometry(
         model,
         geometry_in::<L>(&g, &g),
@@ -681,7 +756,8 @@ fn step_inputs<L: Lanes>(
         &step_input(force, stiffness, sliding, dt),
         &mut state,
     );
-    let results_ok = results_ok(model.track_energy, written_fields(model), &out, &state);
+    let written = written_fields(model);
+    let results_ok = results_ok(model.track_energy, written, &out, &state, fused);
     let l = out.loads;
     LaneResults {
         state,
@@ -733,13 +809,15 @@ fn moving<L: Lanes>(velocity: Vec3<L>, angular_velocity: Vec3<L>, radius: L) -> 
 /// 41-42 ns per contact in cache against 30 for this form, and with one shared function
 /// returning `(valid, state, StepOutput)` the AVX2 kernel measured 37-41 against 35 (full
 /// LAMMPS set, edited builds of the bench driver). The compiler's output is sensitive to such
-/// shapes: rerun the in-cache benchmark at both SIMD levels after any change here.
+/// shapes: rerun the in-cache benchmark at both SIMD levels after any change here. `fused`:
+/// whether the finiteness tests may use fused instructions (see [`FiniteLanes`]).
 #[inline(always)]
 fn step_lanes<L: Lanes>(
     model: &Model,
     dt: f64,
     needs_kn: bool,
     given: (bool, bool),
+    fused: bool,
     at: usize,
     b: &mut Block,
 ) {
@@ -751,7 +829,8 @@ fn step_lanes<L: Lanes>(
     let (force, stiffness) = LaneSource::<L>::forces(&src, needs_kn);
     let sliding = LaneSource::<L>::sliding(&src, given);
     let mut state = LaneSource::<L>::state(&src);
-    let inputs_ok = inputs_ok(&body1, &body2, force, stiffness, needs_kn, sliding, &state);
+    let kn = needs_kn.then_some(stiffness);
+    let inputs_ok = inputs_ok(&body1, &body2, force, kn, sliding, &state, fused);
     let out = contact_step_with_geometry(
         model,
         geometry_in::<L>(&g, &g),
@@ -762,7 +841,7 @@ fn step_lanes<L: Lanes>(
     );
     let l = &out.loads;
     let written = written_fields(model);
-    let results_ok = results_ok(model.track_energy, written, &out, &state);
+    let results_ok = results_ok(model.track_energy, written, &out, &state, fused);
     let valid = geometry_ok & (inputs_ok & results_ok).bitmask();
     b.valid |= (valid & lane_bits(L::N)) << at;
     // The rows of a field the step cannot change still hold what it read.
@@ -965,6 +1044,11 @@ pub fn step_kernel<
     };
     const { assert!(BLOCK.is_multiple_of(L::N)) };
     let needs_kn = needs_normal_stiffness(model);
+    // Fused finiteness tests in the scene kernels only. With them, two of the three double AVX2
+    // generic full-set kernels took 4-5% more time in cache (for fewer instructions); the
+    // generic kernels' time also moves by several percent with code placement alone, so the
+    // fused form is kept where it was measured to help.
+    let fused = !matches!(Scene::from_code(S), Scene::Generic);
     // A group's states get back only the words the step can change (a constant per scene).
     let copy = copy.writing(written_words(written_fields(&folded)));
     let n = access.len();
@@ -988,7 +1072,7 @@ pub fn step_kernel<
         block.valid = 0;
         let mut at = 0;
         while at < count {
-            step_lanes::<L>(&folded, dt, needs_kn, given, at, &mut block);
+            step_lanes::<L>(&folded, dt, needs_kn, given, fused, at, &mut block);
             at += L::N;
         }
         deliver(

@@ -56,6 +56,20 @@ pub trait Lanes: Real {
     type Arr<X: Copy>: Copy + std::ops::Index<usize, Output = X> + std::ops::IndexMut<usize>;
     /// A scratch array filled with `x`.
     fn arr<X: Copy>(x: X) -> Self::Arr<X>;
+    /// Whether [`Lanes::add_zero_times`] is one fused instruction (the x86-64 lane types):
+    /// then a finiteness test adds every value to one sum with it; otherwise it sums a vector's
+    /// three `0 x` first, which leaves shorter dependency chains for the same instructions.
+    const FUSED_PROBE: bool = false;
+    /// `acc + 0 x`, lane-wise: `0 x` is a zero where `x` is finite and NaN where it is
+    /// infinite or NaN, so a sum that starts at zero stays a zero (of either sign) exactly while
+    /// every value added is finite (see [`finite_probe`](crate::scalar::finite_probe)). The
+    /// x86-64 lane types fuse it into one `vfmadd` (exact: `0 x` needs no rounding, and a
+    /// zero or NaN sum is what the separate product and sum give); the default is the product
+    /// and the sum.
+    #[inline(always)]
+    fn add_zero_times(acc: Self, x: Self) -> Self {
+        acc + x * Self::zero()
+    }
     /// Whether a scene kernel on these lanes leaves the rolling stiffness rule a run-time value
     /// instead of folding it to the scene's constant (see
     /// [`fold_for_lanes`](super::scene::fold_for_lanes)): a choice of code generation, not of
