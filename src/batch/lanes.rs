@@ -56,9 +56,9 @@ pub trait Lanes: Real {
     type Arr<X: Copy>: Copy + std::ops::Index<usize, Output = X> + std::ops::IndexMut<usize>;
     /// A scratch array filled with `x`.
     fn arr<X: Copy>(x: X) -> Self::Arr<X>;
-    /// Whether [`Lanes::add_zero_times`] is one fused instruction (the x86-64 lane types):
-    /// then a finiteness test adds every value to one sum with it; otherwise it sums a vector's
-    /// three `0 x` first, which leaves shorter dependency chains for the same instructions.
+    /// Whether [`Lanes::add_zero_times`] is one fused instruction (the x86-64 lane types): then
+    /// the scene kernels' finiteness tests add each value with it, to one of four sums;
+    /// otherwise they sum a vector's three `0 x` first and add that to one sum.
     const FUSED_PROBE: bool = false;
     /// `acc + 0 x`, lane-wise: `0 x` is a zero where `x` is finite and NaN where it is
     /// infinite or NaN, so a sum that starts at zero stays a zero (of either sign) exactly while
