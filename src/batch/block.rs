@@ -70,6 +70,17 @@ const _: () = assert!(BLOCK.is_multiple_of(GROUP) && BLOCK <= 64);
 /// Eight contacts' values of one quantity (one row's share of a group).
 pub type GroupRow = [f64; GROUP];
 
+/// One group's slots of a block's input rows, to fill: the two bodies' ([`BODY_WORDS`] order)
+/// and the state's ([`STATE_WORDS`] order).
+pub struct GroupRowsMut<'a> {
+    /// Body 1's rows.
+    pub body1: [&'a mut GroupRow; BODY_WORDS],
+    /// Body 2's rows.
+    pub body2: [&'a mut GroupRow; BODY_WORDS],
+    /// The state's rows.
+    pub states: [&'a mut GroupRow; STATE_WORDS],
+}
+
 /// `[f(0), f(1), ..., f(GROUP - 1)]`, always inlined. `std::array::from_fn` is not: LLVM left
 /// it out of line in every SIMD kernel (two calls per group, for the body references), with a
 /// bounds check per element and the array passed back through memory.
@@ -87,6 +98,22 @@ pub(crate) fn group_of<T>(f: impl Fn(usize) -> T) -> [T; GROUP] {
 pub trait GroupCopy<P, S>: Copy {
     /// `rows[q][k]` = word `q` of `bodies[k]`.
     fn bodies(self, bodies: [&P; GROUP], rows: [&mut GroupRow; BODY_WORDS]);
+    /// `rows1[q][k]` = word `q` of particle `pairs[k][0]` and `rows2[q][k]` that of particle
+    /// `pairs[k][1]`: the bodies of a group of contacts given by particle indices. An index
+    /// past the last particle reads the last particle instead (the caller refuses its contact).
+    /// `particles` is not empty. The default takes a reference to each body and goes through
+    /// [`GroupCopy::bodies`]; the C layer computes the eight offsets of a side in vector
+    /// registers instead of one bounds test and one address per body.
+    #[inline(always)]
+    fn pair_bodies(
+        self,
+        particles: &[P],
+        pairs: &[[u32; 2]; GROUP],
+        rows1: [&mut GroupRow; BODY_WORDS],
+        rows2: [&mut GroupRow; BODY_WORDS],
+    ) {
+        pair_bodies_by_reference(self, particles, pairs, rows1, rows2);
+    }
     /// `rows[q][k]` = word `q` of `states[k]`.
     fn states(self, states: [&S; GROUP], rows: [&mut GroupRow; STATE_WORDS]);
     /// Writes word `q` of `states[k]` from `rows[q][k]` and its slip flags from `slip[k]` (as
@@ -145,6 +172,22 @@ pub(crate) fn store_loads_by_value<O: LoadsSlot>(rows: [&GroupRow; 9], out: &mut
     for (k, slot) in out.iter_mut().enumerate() {
         slot.set(&PairLoads::in_slot(rows, k));
     }
+}
+
+/// [`GroupCopy::pair_bodies`]' default: a reference to each body, then
+/// [`GroupCopy::bodies`].
+#[inline(always)]
+pub(crate) fn pair_bodies_by_reference<P, S, X: GroupCopy<P, S>>(
+    copy: X,
+    particles: &[P],
+    pairs: &[[u32; 2]; GROUP],
+    rows1: [&mut GroupRow; BODY_WORDS],
+    rows2: [&mut GroupRow; BODY_WORDS],
+) {
+    let last = particles.len() - 1;
+    let body = |i: u32| &particles[(i as usize).min(last)];
+    copy.bodies(group_of(|k| body(pairs[k][0])), rows1);
+    copy.bodies(group_of(|k| body(pairs[k][1])), rows2);
 }
 
 /// [`GroupCopy`] value by value, for any body and state type.
@@ -386,11 +429,13 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
                 scalars(b, g + k, c0 + (g + k).min(count - 1));
             }
         }
-        let refs = access.group_refs(c0 + g, (count - g).min(GROUP), in_range);
-        b.index_ok |= refs.index_ok << g;
-        copy.bodies(refs.body1, group_mut(&mut b.body1, g));
-        copy.bodies(refs.body2, group_mut(&mut b.body2, g));
-        copy.states(refs.states, group_mut(&mut b.state, g));
+        let rows = GroupRowsMut {
+            body1: group_mut(&mut b.body1, g),
+            body2: group_mut(&mut b.body2, g),
+            states: group_mut(&mut b.state, g),
+        };
+        let index_ok = access.copy_group(copy, c0 + g, (count - g).min(GROUP), in_range, rows);
+        b.index_ok |= index_ok << g;
         g += GROUP;
     }
 }

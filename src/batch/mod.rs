@@ -33,8 +33,10 @@ pub mod states;
 
 #[cfg(test)]
 pub(crate) use block::state_words;
-pub use block::{step_kernel, GroupCopy, GroupRow, LoadRows, PortableCopy};
-pub(crate) use block::{store_loads_by_value, BODY_WORDS, GROUP, STATE_WORDS};
+pub(crate) use block::{
+    group_of, pair_bodies_by_reference, store_loads_by_value, BODY_WORDS, GROUP, STATE_WORDS,
+};
+pub use block::{step_kernel, GroupCopy, GroupRow, GroupRowsMut, LoadRows, PortableCopy};
 pub use lanes::{Lanes, MAX_LANES};
 pub use scene::Scene;
 pub use states::{ContactStates, IndexedStates};
@@ -331,8 +333,9 @@ pub trait StepAccess: Gather {
     /// `< len()`), slot `k >= n` repeating the last, and a bit per slot whose particle indices
     /// were in range. The default goes contact by contact ([`Gather::body_refs`],
     /// [`StepAccess::state_ref`]) in a function kept out of line (an access on a hot path
-    /// overrides it); the particle- and contact-major accesses take a whole group from one
-    /// slice of each array, one bounds check per array instead of one per element.
+    /// overrides it); the contact-major access takes a whole group from one slice of each
+    /// array, one bounds check per array instead of one per element (the particle-major one
+    /// overrides [`StepAccess::copy_group`] instead).
     /// `_in_range`: [`StepAccess::indices_in_range`] said every index of the group is in range,
     /// so the access need not test them again.
     #[inline(always)]
@@ -343,6 +346,23 @@ pub trait StepAccess: Gather {
         _in_range: bool,
     ) -> GroupRefs<'_, Self::P, Self::State> {
         group_refs_by_contact(self, first, n)
+    }
+    /// Copies the bodies and states of contacts `first..first + n` (`1 <= n <= GROUP`, all
+    /// `< len()`) into `rows` by `copy`, slot `k >= n` repeating the last, and returns a bit per
+    /// slot whose particle indices were in range (`in_range` as for
+    /// [`StepAccess::group_refs`]). The default goes through [`StepAccess::group_refs`]; the
+    /// particle-major access hands the particle indices to the copier
+    /// ([`GroupCopy::pair_bodies`]).
+    #[inline(always)]
+    fn copy_group<X: GroupCopy<Self::P, Self::State>>(
+        &self,
+        copy: X,
+        first: usize,
+        n: usize,
+        in_range: bool,
+        rows: GroupRowsMut<'_>,
+    ) -> u64 {
+        copy_group_refs(self, copy, first, n, in_range, rows)
     }
     /// True when every particle index of contacts `first..first + n` (all `< len()`) is known
     /// to be in range; `false` says nothing (the default: each group tests its own). The
@@ -375,6 +395,23 @@ pub trait StepAccess: Gather {
     ) {
         self.emit_run(c0, ok, |i| load_at(loads, i));
     }
+}
+
+/// [`StepAccess::copy_group`]'s default: the group's references, then a copy from each.
+#[inline(always)]
+fn copy_group_refs<A: StepAccess + ?Sized, X: GroupCopy<A::P, A::State>>(
+    access: &A,
+    copy: X,
+    first: usize,
+    n: usize,
+    in_range: bool,
+    rows: GroupRowsMut<'_>,
+) -> u64 {
+    let refs = access.group_refs(first, n, in_range);
+    copy.bodies(refs.body1, rows.body1);
+    copy.bodies(refs.body2, rows.body2);
+    copy.states(refs.states, rows.states);
+    refs.index_ok
 }
 
 /// The loads of slot `i` of a block's [`LoadRows`].
@@ -624,31 +661,37 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
             .fold(0, |m, &i| m.max(i));
         (largest as usize) < self.particles.len()
     }
+    /// The particle indices go to the copier ([`GroupCopy::pair_bodies`]), which finds the
+    /// bodies from them: taking a reference to each body first cost about 20 instructions per
+    /// contact in the double AVX2 kernels (a bounds test, a conditional move and an address
+    /// per body, and the 24 references moved through the stack).
     #[inline(always)]
-    fn group_refs(&self, first: usize, n: usize, in_range: bool) -> GroupRefs<'_, P, St::Slot> {
+    fn copy_group<X: GroupCopy<P, St::Slot>>(
+        &self,
+        copy: X,
+        first: usize,
+        n: usize,
+        in_range: bool,
+        rows: GroupRowsMut<'_>,
+    ) -> u64 {
         if n < block::GROUP {
-            return group_refs_by_contact(self, first, n);
+            return copy_group_refs(self, copy, first, n, in_range, rows);
         }
         let pairs: &[[u32; 2]; block::GROUP] = self.pairs[first..first + block::GROUP]
             .try_into()
             .expect("a group of pairs");
-        let states = self.states.group(first);
-        // `gatherable` (checked before any kernel runs): there is a particle 0.
-        let (len, fallback) = (self.particles.len(), &self.particles[0]);
-        let body = |i: u32| self.particles.get(i as usize).unwrap_or(fallback);
         let mut index_ok = lane_bits(block::GROUP);
         if !in_range {
+            let len = self.particles.len();
             index_ok = 0;
             for (k, &[i, j]) in pairs.iter().enumerate() {
                 index_ok |= (((i as usize) < len && (j as usize) < len) as u64) << k;
             }
         }
-        GroupRefs {
-            body1: block::group_of(|k| body(pairs[k][0])),
-            body2: block::group_of(|k| body(pairs[k][1])),
-            states,
-            index_ok,
-        }
+        // `gatherable` (checked before any kernel runs): there is a particle.
+        copy.pair_bodies(self.particles, pairs, rows.body1, rows.body2);
+        copy.states(self.states.group(first), rows.states);
+        index_ok
     }
     /// As [`StepAccess::emit`] contact by contact, but body 1's force and torque stay in
     /// registers while consecutive contacts share it (neighbour-list order): loaded once, the

@@ -15,7 +15,8 @@ use super::contact::rsl_contact_state;
 use super::history::Record;
 use super::types::rsl_sphere;
 use crate::batch::{
-    store_loads_by_value, GroupCopy, GroupRow, LoadsSlot, BODY_WORDS, GROUP, STATE_WORDS,
+    group_of, pair_bodies_by_reference, store_loads_by_value, GroupCopy, GroupRow, LoadsSlot,
+    BODY_WORDS, GROUP, STATE_WORDS,
 };
 use std::mem::{offset_of, size_of};
 
@@ -129,6 +130,31 @@ mod avx2 {
                 unsafe { _mm256_storeu_pd(dst[4 * half + j].add(at), v) };
             }
         }
+    }
+
+    /// `min(i[k], last) * factor` for each of the sixteen `i[k]`, by AVX2 minima and
+    /// multiplications (`last * factor` must fit in a `u32`, or the products wrap).
+    ///
+    /// # Safety
+    /// The CPU has AVX2.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn clamped_multiples(i: &[u32], last: u32, factor: u32) -> [u32; 16] {
+        let i: &[u32; 16] = i.try_into().expect("sixteen indices");
+        let (last, factor) = (
+            _mm256_set1_epi32(last as i32),
+            _mm256_set1_epi32(factor as i32),
+        );
+        let mut out = [0u32; 16];
+        for half in 0..2 {
+            // SAFETY: eight `u32` of `i` and of `out` from `8 * half`, inside both arrays.
+            unsafe {
+                let v = _mm256_loadu_si256(i.as_ptr().add(8 * half).cast());
+                let v = _mm256_mullo_epi32(_mm256_min_epu32(v, last), factor);
+                _mm256_storeu_si256(out.as_mut_ptr().add(8 * half).cast(), v);
+            }
+        }
+        out
     }
 
     /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 2`.
@@ -259,6 +285,82 @@ mod avx512 {
     }
 }
 
+/// Where the bodies of a group of contacts start, in doubles from the first particle's: slot
+/// `2 k` is body 1 of contact `k` and slot `2 k + 1` its body 2 (the order of `pairs`), an index
+/// past the last particle taken as the last. `None` when there is no particle or the last one's
+/// offset does not fit in a `u32` (over 429 million particles). Two vector minima and two
+/// multiplications for the sixteen indices: taking a reference to each body instead (a bounds
+/// test, a conditional move and an address per body) cost about 20 instructions per contact in
+/// the double AVX2 kernels, and a plain loop over the indices stayed scalar (five instructions
+/// per index).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn sphere_offsets(particles: usize, pairs: &[[u32; 2]; GROUP]) -> Option<[u32; 2 * GROUP]> {
+    let last = u32::try_from(particles.checked_sub(1)?).ok()?;
+    let words = BODY_WORDS as u32;
+    if last > u32::MAX / words {
+        return None;
+    }
+    // SAFETY: the caller's contract.
+    Some(unsafe { avx2::clamped_multiples(pairs.as_flattened(), last, words) })
+}
+
+/// Pointers to the first doubles of the bodies of a group's contacts (`[0][k]` body 1 of
+/// contact `k`, `[1][k]` its body 2), each a whole sphere of `particles` (an index past the last
+/// particle gives the last): [`sphere_offsets`] from the first particle. `None` where it is.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn body_pointers(
+    particles: &[rsl_sphere],
+    pairs: &[[u32; 2]; GROUP],
+) -> Option<[[*const f64; GROUP]; 2]> {
+    // SAFETY: the caller's contract.
+    let offsets = unsafe { sphere_offsets(particles.len(), pairs)? };
+    let first = particles.as_ptr().cast::<f64>();
+    let side = |s: usize| group_of(|k| first.wrapping_add(offsets[2 * k + s] as usize));
+    Some([side(0), side(1)])
+}
+
+/// `rows[q][k]` = word `q` of the sphere whose first double `src[k]` points to, by AVX2 4 x 4
+/// transpositions of words 0..4 and 4..8 and a 2-word one of words 8..10.
+///
+/// # Safety
+/// The CPU must have AVX2; each `src[k]` must point to a whole `rsl_sphere`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn avx2_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
+    // SAFETY: the caller's contract; a sphere is `BODY_WORDS` = 10 doubles (asserted above), so
+    // words 0..4, 4..8 and 8..10 are inside it.
+    unsafe {
+        avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
+        avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
+        avx2::pairs_to_rows(src, 8, [r8, r9]);
+    }
+}
+
+/// As [`avx2_bodies`], by an AVX-512 8 x 8 transposition of words 0..8 and a 2-word one of
+/// words 8..10.
+///
+/// # Safety
+/// The CPU must have AVX-512 F and DQ; each `src[k]` must point to a whole `rsl_sphere`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn avx512_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
+    // SAFETY: as in `avx2_bodies`: words 0..8 and 8..10 are inside a sphere.
+    unsafe {
+        avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, r5, r6, r7]);
+        avx512::pairs_to_rows(src, 8, [r8, r9]);
+    }
+}
+
 /// Pointers to the first double of each state, to write (each valid for its whole struct).
 fn doubles_mut(states: &mut [rsl_contact_state; GROUP]) -> [*mut f64; GROUP] {
     states
@@ -354,15 +456,31 @@ fn load_words<O: LoadsSlot>(out: &mut [O; GROUP]) -> Option<[*mut f64; GROUP]> {
 impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
     #[inline(always)]
     fn bodies(self, bodies: [&rsl_sphere; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
-        let src = bodies.map(doubles);
-        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
         // SAFETY: an `Avx2Copy` exists only on a CPU with AVX2 (`Avx2Copy::assume`); each
-        // pointer comes from a reference to a whole sphere, `BODY_WORDS` = 10 doubles (asserted
-        // above): words 0..4, 4..8 and 8..10 are inside it.
+        // pointer comes from a reference to a whole sphere.
+        unsafe { avx2_bodies(bodies.map(doubles), rows) }
+    }
+
+    #[inline(always)]
+    fn pair_bodies(
+        self,
+        particles: &[rsl_sphere],
+        pairs: &[[u32; 2]; GROUP],
+        rows1: [&mut GroupRow; BODY_WORDS],
+        rows2: [&mut GroupRow; BODY_WORDS],
+    ) {
+        // SAFETY: the CPU has AVX2 (an `Avx512Copy` exists only where the batch dispatch found
+        // AVX2 too, `Simd::available`).
+        let Some([src1, src2]) = (unsafe { body_pointers(particles, pairs) }) else {
+            return pair_bodies_by_reference::<_, rsl_contact_state, _>(
+                self, particles, pairs, rows1, rows2,
+            );
+        };
+        // SAFETY: the CPU has AVX2 (as in `bodies`); every pointer is that of a whole sphere of
+        // `particles` (`body_pointers`).
         unsafe {
-            avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
-            avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
-            avx2::pairs_to_rows(src, 8, [r8, r9]);
+            avx2_bodies(src1, rows1);
+            avx2_bodies(src2, rows2);
         }
     }
 
@@ -434,14 +552,31 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
 impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
     #[inline(always)]
     fn bodies(self, bodies: [&rsl_sphere; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
-        let src = bodies.map(doubles);
-        let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
         // SAFETY: an `Avx512Copy` exists only on a CPU with AVX-512 F and DQ
-        // (`Avx512Copy::assume`); each pointer comes from a reference to a whole sphere,
-        // `BODY_WORDS` = 10 doubles (asserted above): words 0..8 and 8..10 are inside it.
+        // (`Avx512Copy::assume`); each pointer comes from a reference to a whole sphere.
+        unsafe { avx512_bodies(bodies.map(doubles), rows) }
+    }
+
+    #[inline(always)]
+    fn pair_bodies(
+        self,
+        particles: &[rsl_sphere],
+        pairs: &[[u32; 2]; GROUP],
+        rows1: [&mut GroupRow; BODY_WORDS],
+        rows2: [&mut GroupRow; BODY_WORDS],
+    ) {
+        // SAFETY: the CPU has AVX2 (an `Avx512Copy` exists only where the batch dispatch found
+        // AVX2 too, `Simd::available`).
+        let Some([src1, src2]) = (unsafe { body_pointers(particles, pairs) }) else {
+            return pair_bodies_by_reference::<_, rsl_contact_state, _>(
+                self, particles, pairs, rows1, rows2,
+            );
+        };
+        // SAFETY: the CPU has AVX-512 F and DQ (as in `bodies`); every pointer is that of a
+        // whole sphere of `particles` (`body_pointers`).
         unsafe {
-            avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, r5, r6, r7]);
-            avx512::pairs_to_rows(src, 8, [r8, r9]);
+            avx512_bodies(src1, rows1);
+            avx512_bodies(src2, rows2);
         }
     }
 
@@ -567,6 +702,19 @@ macro_rules! record_copy {
             #[inline(always)]
             fn bodies(self, bodies: [&rsl_sphere; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
                 GroupCopy::<rsl_sphere, rsl_contact_state>::bodies(self, bodies, rows)
+            }
+
+            #[inline(always)]
+            fn pair_bodies(
+                self,
+                particles: &[rsl_sphere],
+                pairs: &[[u32; 2]; GROUP],
+                rows1: [&mut GroupRow; BODY_WORDS],
+                rows2: [&mut GroupRow; BODY_WORDS],
+            ) {
+                GroupCopy::<rsl_sphere, rsl_contact_state>::pair_bodies(
+                    self, particles, pairs, rows1, rows2,
+                )
             }
 
             #[inline(always)]
@@ -715,6 +863,107 @@ mod tests {
                 "transposition test: {ran} of the 2 SIMD copies ran (this CPU lacks the others)"
             );
         }
+    }
+
+    /// The bodies of a group given by particle indices: row `q`, slot `k` is word `q` of the
+    /// particle each side of pair `k` names, the last particle for an index past it (repeated
+    /// indices, both ends of the index range), for the portable copy and the SIMD copies.
+    #[test]
+    fn pair_bodies_copy_the_particles_the_indices_name() {
+        let particles = spheres();
+        let pairs: [[u32; 2]; GROUP] = [
+            [0, 7],
+            [7, 0],
+            [3, 3],
+            [8, 2],
+            [u32::MAX, 5],
+            [1, 9],
+            [6, 4],
+            [5, 1 << 31],
+        ];
+        let last = particles.len() - 1;
+        let expected = |side: usize| {
+            let mut rows = [[0.0; GROUP]; BODY_WORDS];
+            let sphere = |k: usize| &particles[(pairs[k][side] as usize).min(last)];
+            GroupCopy::<rsl_sphere, rsl_contact_state>::bodies(
+                PortableCopy,
+                std::array::from_fn(sphere),
+                rows.each_mut(),
+            );
+            bits(&rows)
+        };
+        // The portable rows themselves: slot 3 of body 1 is the last particle's (index 8).
+        let body1 = expected(0);
+        assert_eq!(body1[9 * GROUP + 3], particles[7].radius.to_bits());
+        let run = |copy: &dyn Fn(&mut [GroupRow; BODY_WORDS], &mut [GroupRow; BODY_WORDS])| {
+            let mut rows1 = [[f64::NAN; GROUP]; BODY_WORDS];
+            let mut rows2 = [[f64::NAN; GROUP]; BODY_WORDS];
+            copy(&mut rows1, &mut rows2);
+            (bits(&rows1), bits(&rows2))
+        };
+        let want = (body1, expected(1));
+        let portable = run(&|r1, r2| {
+            GroupCopy::<rsl_sphere, rsl_contact_state>::pair_bodies(
+                PortableCopy,
+                &particles,
+                &pairs,
+                r1.each_mut(),
+                r2.each_mut(),
+            )
+        });
+        assert_eq!(portable, want, "portable");
+        if Simd::Avx2.available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            let copy = unsafe { Avx2Copy::assume() };
+            let rows = run(&|r1, r2| {
+                GroupCopy::<rsl_sphere, rsl_contact_state>::pair_bodies(
+                    copy,
+                    &particles,
+                    &pairs,
+                    r1.each_mut(),
+                    r2.each_mut(),
+                )
+            });
+            assert_eq!(rows, want, "AVX2");
+        }
+        if Simd::Avx512.available() {
+            // SAFETY: the CPU has AVX-512 F and DQ (checked just above).
+            let copy = unsafe { Avx512Copy::assume() };
+            let rows = run(&|r1, r2| {
+                GroupCopy::<rsl_sphere, rsl_contact_state>::pair_bodies(
+                    copy,
+                    &particles,
+                    &pairs,
+                    r1.each_mut(),
+                    r2.each_mut(),
+                )
+            });
+            assert_eq!(rows, want, "AVX-512");
+        }
+    }
+
+    /// The offsets of the bodies: in doubles, body 1 then body 2 of each pair, an index past
+    /// the last particle taken as the last; none without particles or past `u32` offsets.
+    #[test]
+    fn sphere_offsets_clamp_and_refuse_what_does_not_fit() {
+        let mut pairs = [[0u32; 2]; GROUP];
+        pairs[0] = [2, 5];
+        pairs[7] = [u32::MAX, 4];
+        if !Simd::Avx2.available() {
+            eprintln!("sphere offsets test skipped: this CPU lacks AVX2");
+            return;
+        }
+        // SAFETY (each call): the CPU has AVX2 (checked just above).
+        let offsets = |n: usize| unsafe { sphere_offsets(n, &pairs) };
+        let five = offsets(5).expect("five particles");
+        assert_eq!(five[..2], [20, 40]);
+        assert_eq!(five[14..], [40, 40]);
+        assert_eq!(five[2..14], [0; 12]);
+        assert_eq!(offsets(0), None);
+        // The last particle whose offset fits (429,496,729 x 10 <= u32::MAX), and one past it.
+        let fits = (u32::MAX / 10) as usize + 1;
+        assert_eq!(offsets(fits).expect("fits")[14], u32::MAX / 10 * 10);
+        assert_eq!(offsets(fits + 1), None);
     }
 
     /// Told which words a step changes, the AVX2 copy writes every one of them (and the slip
