@@ -403,12 +403,11 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     let in_range = access.indices_in_range(c0, count);
     let sliding = access.sliding_overrides();
     let mut g = 0;
-    // Slot `i`'s per-contact numbers, from contact `c`.
+    // Slot `i`'s per-contact numbers from contact `c`, but `f_n`.
     let scalars = |b: &mut Block, i: usize, c: usize| {
         if PREFETCH {
             access.touch(c + TOUCH_AHEAD);
         }
-        b.normal_force[i] = access.normal_force(c);
         if needs_kn {
             b.normal_stiffness[i] = access.normal_stiffness(c);
         }
@@ -421,12 +420,15 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     };
     while g < count {
         if g + GROUP <= count {
+            b.normal_force[g..g + GROUP].copy_from_slice(&access.normal_forces(c0 + g));
             for k in 0..GROUP {
                 scalars(b, g + k, c0 + g + k);
             }
         } else {
             for k in 0..GROUP {
-                scalars(b, g + k, c0 + (g + k).min(count - 1));
+                let c = c0 + (g + k).min(count - 1);
+                b.normal_force[g + k] = access.normal_force(c);
+                scalars(b, g + k, c);
             }
         }
         let rows = GroupRowsMut {

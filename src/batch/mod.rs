@@ -307,6 +307,14 @@ pub trait StepAccess: Gather {
     fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)>;
     /// Normal force `f_n` (compressive positive, tensile negative).
     fn normal_force(&self, c: usize) -> f64;
+    /// `f_n` of contacts `first..first + GROUP` (all `< len()`), as [`StepAccess::normal_force`]
+    /// gives each (the default). The particle- and contact-major accesses copy them from one
+    /// slice with one bounds test: value by value with a test each, they cost about five
+    /// instructions per contact in the double AVX2 kernels.
+    #[inline(always)]
+    fn normal_forces(&self, first: usize) -> [f64; GROUP] {
+        block::group_of(|k| self.normal_force(first + k))
+    }
     /// Normal stiffness `k_n` (read only when the model needs it).
     fn normal_stiffness(&self, c: usize) -> f64;
     /// Per-contact sliding coefficients given instead of the model's (none by default).
@@ -616,6 +624,12 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
         self.normal_force[c]
     }
     #[inline(always)]
+    fn normal_forces(&self, first: usize) -> [f64; GROUP] {
+        self.normal_force[first..first + GROUP]
+            .try_into()
+            .expect("a group of forces")
+    }
+    #[inline(always)]
     fn normal_stiffness(&self, c: usize) -> f64 {
         self.normal_stiffness.map_or(0.0, |k| k[c])
     }
@@ -827,6 +841,12 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     #[inline(always)]
     fn normal_force(&self, c: usize) -> f64 {
         self.normal_force[c]
+    }
+    #[inline(always)]
+    fn normal_forces(&self, first: usize) -> [f64; GROUP] {
+        self.normal_force[first..first + GROUP]
+            .try_into()
+            .expect("a group of forces")
     }
     #[inline(always)]
     fn normal_stiffness(&self, c: usize) -> f64 {
