@@ -895,51 +895,34 @@ mod tests {
         // The portable rows themselves: slot 3 of body 1 is the last particle's (index 8).
         let body1 = expected(0);
         assert_eq!(body1[9 * GROUP + 3], particles[7].radius.to_bits());
-        let run = |copy: &dyn Fn(&mut [GroupRow; BODY_WORDS], &mut [GroupRow; BODY_WORDS])| {
-            let mut rows1 = [[f64::NAN; GROUP]; BODY_WORDS];
-            let mut rows2 = [[f64::NAN; GROUP]; BODY_WORDS];
-            copy(&mut rows1, &mut rows2);
-            (bits(&rows1), bits(&rows2))
-        };
         let want = (body1, expected(1));
-        let portable = run(&|r1, r2| {
-            GroupCopy::<rsl_sphere, rsl_contact_state>::pair_bodies(
-                PortableCopy,
-                &particles,
-                &pairs,
-                r1.each_mut(),
-                r2.each_mut(),
-            )
-        });
-        assert_eq!(portable, want, "portable");
+        assert_eq!(
+            pair_rows(PortableCopy, &particles, &pairs),
+            want,
+            "portable"
+        );
         if Simd::Avx2.available() {
             // SAFETY: the CPU has AVX2 (checked just above).
             let copy = unsafe { Avx2Copy::assume() };
-            let rows = run(&|r1, r2| {
-                GroupCopy::<rsl_sphere, rsl_contact_state>::pair_bodies(
-                    copy,
-                    &particles,
-                    &pairs,
-                    r1.each_mut(),
-                    r2.each_mut(),
-                )
-            });
-            assert_eq!(rows, want, "AVX2");
+            assert_eq!(pair_rows(copy, &particles, &pairs), want, "AVX2");
         }
         if Simd::Avx512.available() {
             // SAFETY: the CPU has AVX-512 F and DQ (checked just above).
             let copy = unsafe { Avx512Copy::assume() };
-            let rows = run(&|r1, r2| {
-                GroupCopy::<rsl_sphere, rsl_contact_state>::pair_bodies(
-                    copy,
-                    &particles,
-                    &pairs,
-                    r1.each_mut(),
-                    r2.each_mut(),
-                )
-            });
-            assert_eq!(rows, want, "AVX-512");
+            assert_eq!(pair_rows(copy, &particles, &pairs), want, "AVX-512");
         }
+    }
+
+    /// The rows `copy` gives the bodies of `pairs` ([`GroupCopy::pair_bodies`]), as bits.
+    fn pair_rows<X: GroupCopy<rsl_sphere, rsl_contact_state>>(
+        copy: X,
+        particles: &[rsl_sphere],
+        pairs: &[[u32; 2]; GROUP],
+    ) -> (Vec<u64>, Vec<u64>) {
+        let mut rows1 = [[f64::NAN; GROUP]; BODY_WORDS];
+        let mut rows2 = [[f64::NAN; GROUP]; BODY_WORDS];
+        copy.pair_bodies(particles, pairs, rows1.each_mut(), rows2.each_mut());
+        (bits(&rows1), bits(&rows2))
     }
 
     /// The offsets of the bodies: in doubles, body 1 then body 2 of each pair, an index past
