@@ -469,8 +469,7 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
         rows1: [&mut GroupRow; BODY_WORDS],
         rows2: [&mut GroupRow; BODY_WORDS],
     ) {
-        // SAFETY: the CPU has AVX2 (an `Avx512Copy` exists only where the batch dispatch found
-        // AVX2 too, `Simd::available`).
+        // SAFETY: an `Avx2Copy` exists only on a CPU with AVX2 (`Avx2Copy::assume`).
         let Some([src1, src2]) = (unsafe { body_pointers(particles, pairs) }) else {
             return pair_bodies_by_reference::<_, rsl_contact_state, _>(
                 self, particles, pairs, rows1, rows2,
