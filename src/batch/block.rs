@@ -4,10 +4,10 @@
 //! `f_n` in, a state and three load vectors out, per contact. Packing these into SIMD lanes
 //! straight from the host's arrays (per-lane pointers, lane inserts and extracts woven through
 //! the physics) cost more instructions than the physics itself (measured: about 390 of 624
-//! instructions per contact, 4-lane AVX2, LAMMPS law set). So each block of [`BLOCK`] contacts
+//! instructions per contact, 4-lane AVX2, LAMMPS law set). So each block of `BLOCK` contacts
 //! goes through three simple loops:
 //!
-//! 1. **gather**: each contact's bodies, state and `f_n` are copied into a [`Block`], one row
+//! 1. **gather**: each contact's bodies, state and `f_n` are copied into a `Block`, one row
 //!    per quantity (structure of arrays), eight contacts at a time by a [`GroupCopy`] (value by
 //!    value, or by SIMD transposition where the C layer supplies one for its structs);
 //! 2. **step**: the generic physics runs over the block, `L::N` contacts at a time, with every
@@ -70,8 +70,8 @@ const _: () = assert!(BLOCK.is_multiple_of(GROUP) && BLOCK <= 64);
 /// Eight contacts' values of one quantity (one row's share of a group).
 pub type GroupRow = [f64; GROUP];
 
-/// One group's slots of a block's input rows, to fill: the two bodies' ([`BODY_WORDS`] order)
-/// and the state's ([`STATE_WORDS`] order).
+/// One group's slots of a block's input rows, to fill: the two bodies' (`BODY_WORDS` order)
+/// and the state's (`STATE_WORDS` order).
 pub struct GroupRowsMut<'a> {
     /// Body 1's rows.
     pub body1: [&'a mut GroupRow; BODY_WORDS],
@@ -90,9 +90,9 @@ pub(crate) fn group_of<T>(f: impl Fn(usize) -> T) -> [T; GROUP] {
     [f(0), f(1), f(2), f(3), f(4), f(5), f(6), f(7)]
 }
 
-/// How the block moves a group of [`GROUP`] consecutive contacts between the host's structs
+/// How the block moves a group of `GROUP` consecutive contacts between the host's structs
 /// (`P` a body, `S` a state) and its rows: row `q`, slot `k` holds word `q` of contact `k`
-/// ([`BODY_WORDS`], [`STATE_WORDS`] give the word order). It only copies: every implementation
+/// (`BODY_WORDS`, `STATE_WORDS` give the word order). It only copies: every implementation
 /// gives the same rows and states bit for bit. [`PortableCopy`] copies value by value; the C
 /// layer transposes its own structs with SIMD shuffles.
 pub trait GroupCopy<P, S>: Copy {
@@ -139,7 +139,7 @@ pub trait GroupCopy<P, S>: Copy {
         store_states_by_value(rows, slip, states);
     }
     /// This copier, told that a step changes only the state words of `words` (bit `q`: word
-    /// `q`, [`written_words`]): its [`GroupCopy::store_states`] may then leave the other words
+    /// `q`, `written_words`): its [`GroupCopy::store_states`] may then leave the other words
     /// alone, since the states still hold what [`GroupCopy::states`] read (the default ignores
     /// it and writes every word).
     #[inline(always)]

@@ -24,9 +24,9 @@ pub(crate) const WITH_NORMAL: usize = 10;
 /// Words of a record with the previous normal and YADE's off-axis twisting moment.
 pub(crate) const WITH_OFFAXIS: usize = 13;
 
-/// Doubles per contact of `model`'s packed history: [`SPRINGS_ONLY`] (7) when neither
-/// transport reads the previous normal, [`WITH_NORMAL`] (10) when one does,
-/// [`WITH_OFFAXIS`] (13) for a preset that keeps the twisting moment as a vector (YADE).
+/// Doubles per contact of `model`'s packed history: `SPRINGS_ONLY` (7) when neither
+/// transport reads the previous normal, `WITH_NORMAL` (10) when one does,
+/// `WITH_OFFAXIS` (13) for a preset that keeps the twisting moment as a vector (YADE).
 pub fn history_words(model: &Model) -> usize {
     let reads_normal = |t: Transport| matches!(t, Transport::Exact | Transport::FirstOrder);
     if model.preset.conventions().twist_vector {

@@ -1,10 +1,11 @@
 //! Batch kernels: many contacts per call, for the hot loop of a DEM code.
 //!
 //! The kernels run **the same generic functions** as the per-contact path
-//! ([`pair_geometry_unchecked`], [`decompose_pair_with_geometry`], [`contact_step_with_geometry`]),
-//! instantiated for a lane type ([`Lanes`]: `f64`, `f32`, or an `AutoSimd` pack of 4 or 8
-//! contacts) and for a [`Scene`] (a const parameter that folds the model's law choices), so a
-//! batch result equals the per-contact result of the same precision.
+//! ([`pair_geometry_unchecked`], [`decompose_pair_with_geometry`],
+//! [`contact_step_with_geometry`](crate::laws::step::contact_step_with_geometry)), instantiated
+//! for a lane type ([`Lanes`]: `f64`, `f32`, or an `AutoSimd` pack of 4 or 8 contacts) and for
+//! a [`Scene`] (a const parameter that folds the model's law choices), so a batch result equals
+//! the per-contact result of the same precision.
 //!
 //! Two ways to feed them ([`StepAccess`], [`DecomposeAccess`]):
 //! - particle-major ([`ParticleSteps`], [`ParticleDecompose`]): particle array + contact index
@@ -878,7 +879,7 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     fn emit(&mut self, c: usize, l: &PairLoads) {
         self.out[c].set(l);
     }
-    /// Each group of [`block::GROUP`] valid contacts has its loads written by `copy`
+    /// Each group of `block::GROUP` valid contacts has its loads written by `copy`
     /// ([`GroupCopy::store_loads`]), the others contact by contact.
     #[inline(always)]
     fn emit_block<X: GroupCopy<P, S>>(&mut self, copy: X, c0: usize, ok: u64, loads: &LoadRows) {

@@ -2,7 +2,7 @@
 //! `include/rollslide.h` is generated from it by cbindgen.
 //!
 //! Rules (CONVENTIONS.md): `int32_t` status returns; outputs last and written only on success;
-//! every body behind one panic boundary ([`guard`]); only `#[repr(C)]` structs of doubles and
+//! every body behind one panic boundary (`guard`); only `#[repr(C)]` structs of doubles and
 //! fixed-width integers cross the boundary; option codes arrive as integers and are validated.
 
 pub mod batch;
