@@ -11,8 +11,9 @@
 # and the kernel runs two to three times slower with the same results (measured when
 # nalgebra's `cross` was left out of line: 93 against 45 ns per contact). No test sees that,
 # so this check does. It also fails on two helpers once found out of line in the SIMD kernels
-# (`core::array::from_fn` building the group's body references, and a closure of the
-# block's row reader), and on those once found in the indexed-state store
+# (`core::array::from_fn` building the group's body references, a closure of the block's row
+# reader, and one of the gather that prefetched and copied a contact's numbers: a call per
+# contact in the prefetching kernels), and on those once found in the indexed-state store
 # (`get_disjoint_mut`, `array::map`) or that it could leave there (a function or closure of
 # `batch::states` or `capi::indexed`): each cost a call, and its arguments and results
 # through memory, per group of contacts.
@@ -36,7 +37,7 @@ out=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
     call = 0
     # Demangled or (for section-relative targets) mangled names.
     if ($0 ~ /core_arch|nalgebra|simba|lanes_x86|rollslide::(scalar|laws|geometry|loads|decompose)|9rollslide(6scalar|4laws|8geometry|5loads|9decompose)/ ||
-        $0 ~ /core::array|4core5array|RowsAt|get_disjoint_mut|batch::states|5batch6states|capi::indexed|4capi7indexed/)
+        $0 ~ /core::array|4core5array|RowsAt|block::gather|5block6gather|get_disjoint_mut|batch::states|5batch6states|capi::indexed|4capi7indexed/)
       print name " calls " $NF
     next
   }
