@@ -5,7 +5,7 @@
 mod common;
 
 use common::{full_model, scene_models, Rng};
-use rollslide::batch::scene::{fold, fold_for_lanes};
+use rollslide::batch::scene::fold;
 use rollslide::batch::Scene;
 use rollslide::decompose::Sphere;
 use rollslide::laws::checked::contact_step_pair;
@@ -405,24 +405,19 @@ fn scene_result_test_never_passes_a_non_finite_result() {
 }
 
 /// A scene's kernels may run a model only if folding the scene's constants into it gives the
-/// model back: with every constant (`fold`: per-contact steps, one-lane kernels) and with the
-/// rolling stiffness rule left at run time (`fold_for_lanes`: the SIMD batch kernels). A model
-/// that differs from a scene only in that rule gets the generic kernel, and `fold_for_lanes`
-/// leaves the rule as the model has it.
+/// model back. A model that differs from a scene only in its rolling stiffness rule (derived
+/// from `k_n` instead of given) gets the generic kernel: folding would make the rule `Given`.
 #[test]
 fn every_model_folds_back_to_itself_in_its_scene() {
     for model in models() {
         let scene = Scene::classify(&model);
         assert_eq!(fold(scene, &model), model, "{scene:?}");
-        assert_eq!(fold_for_lanes(scene, &model), model, "{scene:?}");
     }
     let mut derived = full_model(Preset::Objective, Transport::Exact);
     derived.rolling.stiffness_rule = RollingStiffness::Epsd;
     assert_eq!(Scene::classify(&derived), Scene::Generic);
-    let folded = |f: fn(Scene, &Model) -> Model| f(Scene::FullExact, &derived);
-    assert_eq!(folded(fold).rolling.stiffness_rule, RollingStiffness::Given);
     assert_eq!(
-        folded(fold_for_lanes).rolling.stiffness_rule,
-        RollingStiffness::Epsd
+        fold(Scene::FullExact, &derived).rolling.stiffness_rule,
+        RollingStiffness::Given
     );
 }

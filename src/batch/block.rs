@@ -1091,15 +1091,10 @@ pub fn step_kernel<
     access: &mut A,
     copy: X,
 ) -> BatchReport {
-    // The AVX-512 kernels leave the rolling stiffness rule at run time (see `fold_for_lanes`).
     // Only the inlined step reads `folded`: the out-of-line `refuse` gets the host's `model`
     // (the same fields, since the scene matches it). Had its address reached a call, LLVM
     // would keep the folded model in memory and test the scene's fields at run time.
-    let folded = if L::RUN_TIME_ROLLING_STIFFNESS_RULE {
-        scene::fold_for_lanes(Scene::from_code(S), model)
-    } else {
-        scene::fold(Scene::from_code(S), model)
-    };
+    let folded = scene::fold(Scene::from_code(S), model);
     const { assert!(BLOCK.is_multiple_of(L::N)) };
     let needs_kn = needs_normal_stiffness(model);
     // Fused finiteness tests in the scene kernels only. With them, two of the three double AVX2

@@ -70,11 +70,6 @@ pub trait Lanes: Real {
     fn add_zero_times(acc: Self, x: Self) -> Self {
         acc + x * Self::zero()
     }
-    /// Whether a scene kernel on these lanes leaves the rolling stiffness rule a run-time value
-    /// instead of folding it to the scene's constant (see
-    /// [`fold_for_lanes`](super::scene::fold_for_lanes)): a choice of code generation, not of
-    /// physics (the scene has already made the rule `Given`).
-    const RUN_TIME_ROLLING_STIFFNESS_RULE: bool = false;
 }
 
 impl Lanes for f64 {

@@ -134,22 +134,3 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
     m.contact_point_sliding = false;
     m
 }
-
-/// [`fold`] for the SIMD kernels whose lanes set
-/// [`Lanes::RUN_TIME_ROLLING_STIFFNESS_RULE`](super::Lanes::RUN_TIME_ROLLING_STIFFNESS_RULE)
-/// (the AVX-512 ones): the same model, with the rolling stiffness rule left a run-time value
-/// (one branch per lane group, the same way in every lane), since [`Scene::classify`] has
-/// already made it `Given` for a scene with rolling. With the rule folded, LLVM compiled the
-/// double AVX-512 kernels of the scenes with rolling to code that took 5-8% more time in cache.
-/// That was measured before the scene constants reached the kernels at all (the folded model
-/// was kept in memory, see `step_kernel`), and has not been rerun on an AVX-512 host since. On
-/// AVX2 (Zen 3), after that fix, the double kernels with the rule folded as well ran 1.4% (full
-/// set) and 2.7% (rolling + twisting) fewer instructions per contact and took 4-8% less time in
-/// cache (lower quartiles of alternating runs); at 1.2M contacts the difference was within the
-/// host's noise. So the AVX2 kernels use [`fold`].
-#[inline(always)]
-pub fn fold_for_lanes(scene: Scene, model: &Model) -> Model {
-    let mut m = fold(scene, model);
-    m.rolling.stiffness_rule = model.rolling.stiffness_rule;
-    m
-}

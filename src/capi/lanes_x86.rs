@@ -1461,8 +1461,6 @@ impl Lanes for F64x8 {
         Self::add_zero_times_(acc, x)
     }
     const N: usize = 8;
-    // Left at run time, as measured on AVX-512 (see `fold_for_lanes`).
-    const RUN_TIME_ROLLING_STIFFNESS_RULE: bool = true;
     type Geo = F64x8;
     #[inline(always)]
     fn from_fn<F: FnMut(usize) -> f64>(mut f: F) -> Self {
@@ -1693,8 +1691,6 @@ impl Lanes for F32x16 {
         Self::add_zero_times_(acc, x)
     }
     const N: usize = 16;
-    // Left at run time, as measured on AVX-512 (see `fold_for_lanes`).
-    const RUN_TIME_ROLLING_STIFFNESS_RULE: bool = true;
     type Geo = F64x8x2;
     #[inline(always)]
     fn from_fn<F: FnMut(usize) -> f64>(f: F) -> Self {
