@@ -86,10 +86,13 @@ pub fn pair_geometry_unchecked<T: Real>(
         }
         BranchRule::Radii => (radius1, radius2, lit(0.0)),
     };
-    let rolling_radius = match options.rolling_radius {
-        RollingRadiusRule::Exact => branch1 * branch2 / (branch1 + branch2),
-        RollingRadiusRule::Effective => radius1 * radius2 / (radius1 + radius2),
+    // The rule picks the two lengths, then one division: the SIMD batch kernels take the rule
+    // from the model at run time, and with a division in each arm LLVM computed both.
+    let (a, b) = match options.rolling_radius {
+        RollingRadiusRule::Exact => (branch1, branch2),
+        RollingRadiusRule::Effective => (radius1, radius2),
     };
+    let rolling_radius = a * b / (a + b);
     ContactGeometry {
         normal,
         distance,
