@@ -309,9 +309,8 @@ pub trait StepAccess: Gather {
     /// Normal force `f_n` (compressive positive, tensile negative).
     fn normal_force(&self, c: usize) -> f64;
     /// `f_n` of contacts `first..first + GROUP` (all `< len()`), as [`StepAccess::normal_force`]
-    /// gives each (the default). The particle- and contact-major accesses copy them from one
-    /// slice with one bounds test: value by value with a test each, they cost about five
-    /// instructions per contact in the double AVX2 kernels.
+    /// gives each (the default). The particle- and contact-major accesses copy them from their
+    /// slice with one bounds test (`block::group_at`).
     #[inline(always)]
     fn normal_forces(&self, first: usize) -> [f64; GROUP] {
         block::group_of(|k| self.normal_force(first + k))
@@ -626,9 +625,7 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
     }
     #[inline(always)]
     fn normal_forces(&self, first: usize) -> [f64; GROUP] {
-        self.normal_force[first..first + GROUP]
-            .try_into()
-            .expect("a group of forces")
+        block::group_at(self.normal_force, first)
     }
     #[inline(always)]
     fn normal_stiffness(&self, c: usize) -> f64 {
@@ -845,9 +842,7 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     }
     #[inline(always)]
     fn normal_forces(&self, first: usize) -> [f64; GROUP] {
-        self.normal_force[first..first + GROUP]
-            .try_into()
-            .expect("a group of forces")
+        block::group_at(self.normal_force, first)
     }
     #[inline(always)]
     fn normal_stiffness(&self, c: usize) -> f64 {
