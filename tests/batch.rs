@@ -7,7 +7,8 @@ use common::{full_model, scene_models, Rng};
 use rollslide::batch::history::{history_words, words_from_state};
 use rollslide::batch::{
     BatchReport, ContactStates, ContactSteps, Gather, IndexedStates, ModelSliding,
-    ParticleDecompose, ParticleSteps, Scene, SlidingOverrides, StepAccess, PREFETCH_MIN_BYTES,
+    ParticleDecompose, ParticleSteps, Scene, SlidingOverrides, SlidingSource, StepAccess,
+    PREFETCH_MIN_BYTES,
 };
 use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
@@ -420,95 +421,144 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
     }
 }
 
+/// Bits of one result: the particle-major accumulators or contact-major loads, and the states.
+type ResultBits = (Vec<[u64; 3]>, Vec<Vec<u64>>);
+
+fn vec3_bits(v: &rsl_vec3) -> [u64; 3] {
+    [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
+}
+
+/// The particle-major step of `sc` in calls of `size` contacts (on the same particles), each
+/// checked to prefetch exactly when it is the one call of every contact.
+fn particle_major_in_calls<O: SlidingSource>(
+    sc: &Scenario,
+    model: &Model,
+    config: BatchConfig,
+    sliding: impl Fn(usize, usize) -> O,
+    size: usize,
+) -> ResultBits {
+    let (nc, np) = (sc.pairs.len(), sc.particles.len());
+    let mut states = sc.states.clone();
+    let mut force = vec![rsl_vec3::default(); np];
+    let mut torque = vec![rsl_vec3::default(); np];
+    let mut c0 = 0;
+    while c0 < nc {
+        let c1 = (c0 + size).min(nc);
+        let mut access = ParticleSteps {
+            particles: &sc.particles,
+            pairs: &sc.pairs[c0..c1],
+            normal_force: &sc.normal_force[c0..c1],
+            normal_stiffness: None,
+            states: &mut states[c0..c1],
+            force: &mut force,
+            torque: &mut torque,
+            sliding: sliding(c0, c1),
+        };
+        assert_eq!(access.prefetching(), size == nc, "{size} contacts");
+        assert_eq!(
+            access.footprint() >= PREFETCH_MIN_BYTES,
+            access.prefetching()
+        );
+        let (report, _) = run_step(model, 1e-4, &mut access, config).unwrap();
+        assert_eq!(report.processed, c1 - c0, "every contact is valid");
+        c0 = c1;
+    }
+    let sums = force.iter().chain(&torque).map(vec3_bits).collect();
+    (sums, states.iter().map(state_word_bits).collect())
+}
+
+/// The contact-major step of `sc` in calls of `size` contacts; see [`particle_major_in_calls`].
+fn contact_major_in_calls<'a>(
+    sc: &Scenario,
+    model: &Model,
+    config: BatchConfig,
+    sliding: impl Fn(usize, usize) -> SlidingOverrides<'a>,
+    size: usize,
+) -> ResultBits {
+    let nc = sc.pairs.len();
+    let (body1, body2) = gathered_bodies(sc);
+    let mut states = sc.states.clone();
+    let mut out = vec![rsl_batch_loads::default(); nc];
+    let mut c0 = 0;
+    while c0 < nc {
+        let c1 = (c0 + size).min(nc);
+        let mut access = ContactSteps {
+            body1: &body1[c0..c1],
+            body2: &body2[c0..c1],
+            normal_force: &sc.normal_force[c0..c1],
+            normal_stiffness: None,
+            states: &mut states[c0..c1],
+            out: &mut out[c0..c1],
+            sliding: sliding(c0, c1),
+        };
+        assert_eq!(access.prefetching(), size == nc, "{size} contacts");
+        let (report, _) = run_step(model, 1e-4, &mut access, config).unwrap();
+        assert_eq!(report.processed, c1 - c0, "every contact is valid");
+        c0 = c1;
+    }
+    let loads = out
+        .iter()
+        .flat_map(|l| [l.force1, l.torque1, l.torque2].map(|v| vec3_bits(&v)))
+        .collect();
+    (loads, states.iter().map(state_word_bits).collect())
+}
+
 /// Calls of at least `PREFETCH_MIN_BYTES` run the kernels that prefetch, smaller ones the
 /// kernels that do not (two instantiations of the same code). The same contacts stepped in one
 /// large call and in calls of 1,000 give the same bits, in both precisions, at every level, for
 /// every scene, particle-major (the accumulated sums) and contact-major (the loads), and the
-/// same states.
+/// same states; with the model's sliding coefficients and with per-contact `k_t` and
+/// `gamma_t` (which the gather copies group by group, a partial group at each call's end).
 #[test]
 fn calls_with_and_without_prefetching_give_the_same_bits() {
-    let dt = 1e-4;
     let chunk = 1000;
-    let bits3 = |v: &rsl_vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
-    let state_bits = state_word_bits;
-    // 9,000 contacts among 400 particles: 1.2 MB particle-major, 3.2 MB contact-major; a call
-    // of 1,000 contacts stays well below.
-    let mut sc = scenario(400, 9000, 31);
+    // 9,003 contacts among 400 particles: 1.2 MB particle-major, 3.2 MB contact-major; a call
+    // of 1,000 contacts stays well below. 9,003 and 1,000 are not multiples of the group of 8.
+    let mut sc = scenario(400, 9003, 31);
     sort_by_body1(&mut sc);
     let nc = sc.pairs.len();
-    let np = sc.particles.len();
-    let (body1, body2) = gathered_bodies(&sc);
+    assert_eq!(nc % 8, 3, "a partial group at the end");
+    let mut rng = Rng::new(5);
+    let k_t: Vec<f64> = (0..nc).map(|_| rng.uniform(0.0, 4e4)).collect();
+    let gamma_t: Vec<f64> = (0..nc).map(|_| rng.uniform(0.0, 20.0)).collect();
+    let overrides = |c0: usize, c1: usize| SlidingOverrides {
+        stiffness: Some(&k_t[c0..c1]),
+        damping: Some(&gamma_t[c0..c1]),
+    };
+    let mut differ = 0;
     for (model, _) in models() {
         for config in configs() {
-            // Particle-major: one call, then calls of `chunk` contacts on the same particles.
-            let mut results = Vec::new();
-            for size in [nc, chunk] {
-                let mut states = sc.states.clone();
-                let mut force = vec![rsl_vec3::default(); np];
-                let mut torque = vec![rsl_vec3::default(); np];
-                let mut c0 = 0;
-                while c0 < nc {
-                    let c1 = (c0 + size).min(nc);
-                    let mut access = ParticleSteps {
-                        particles: &sc.particles,
-                        pairs: &sc.pairs[c0..c1],
-                        normal_force: &sc.normal_force[c0..c1],
-                        normal_stiffness: None,
-                        states: &mut states[c0..c1],
-                        force: &mut force,
-                        torque: &mut torque,
-                        sliding: ModelSliding,
-                    };
-                    assert_eq!(access.prefetching(), size == nc, "{size} contacts");
-                    assert_eq!(
-                        access.footprint() >= PREFETCH_MIN_BYTES,
-                        access.prefetching()
-                    );
-                    run_step(&model, dt, &mut access, config).unwrap();
-                    c0 = c1;
-                }
-                let sums: Vec<[u64; 3]> = force.iter().chain(&torque).map(bits3).collect();
-                let states: Vec<Vec<u64>> = states.iter().map(state_bits).collect();
-                results.push((sums, states));
-            }
+            let what = format!("{config:?}, {model:?}");
+            let [one, chunks] = [nc, chunk]
+                .map(|n| particle_major_in_calls(&sc, &model, config, |_, _| ModelSliding, n));
             assert!(
-                results[0] == results[1],
-                "particle-major, {config:?}, {model:?}: one call and calls of {chunk} differ"
+                one == chunks,
+                "particle-major, {what}: one call and calls of {chunk} differ"
             );
-            // Contact-major.
-            let mut results = Vec::new();
-            for size in [nc, chunk] {
-                let mut states = sc.states.clone();
-                let mut out = vec![rsl_batch_loads::default(); nc];
-                let mut c0 = 0;
-                while c0 < nc {
-                    let c1 = (c0 + size).min(nc);
-                    let mut access = ContactSteps {
-                        body1: &body1[c0..c1],
-                        body2: &body2[c0..c1],
-                        normal_force: &sc.normal_force[c0..c1],
-                        normal_stiffness: None,
-                        states: &mut states[c0..c1],
-                        out: &mut out[c0..c1],
-                        sliding: SlidingOverrides::NONE,
-                    };
-                    assert_eq!(access.prefetching(), size == nc, "{size} contacts");
-                    run_step(&model, dt, &mut access, config).unwrap();
-                    c0 = c1;
-                }
-                let loads: Vec<[u64; 3]> = out
-                    .iter()
-                    .flat_map(|l| [bits3(&l.force1), bits3(&l.torque1), bits3(&l.torque2)])
-                    .collect();
-                let states: Vec<Vec<u64>> = states.iter().map(state_bits).collect();
-                results.push((loads, states));
-            }
+            let [one_k, chunks_k] =
+                [nc, chunk].map(|n| particle_major_in_calls(&sc, &model, config, overrides, n));
             assert!(
-                results[0] == results[1],
-                "contact-major, {config:?}, {model:?}: one call and calls of {chunk} differ"
+                one_k == chunks_k,
+                "particle-major, per-contact k_t and gamma_t, {what}: one call and calls of {chunk} differ"
+            );
+            differ += usize::from(one_k != one);
+            let none = |_, _| SlidingOverrides::NONE;
+            let [one, chunks] =
+                [nc, chunk].map(|n| contact_major_in_calls(&sc, &model, config, none, n));
+            assert!(
+                one == chunks,
+                "contact-major, {what}: one call and calls of {chunk} differ"
+            );
+            let [one_k, chunks_k] =
+                [nc, chunk].map(|n| contact_major_in_calls(&sc, &model, config, overrides, n));
+            assert!(
+                one_k == chunks_k,
+                "contact-major, per-contact k_t and gamma_t, {what}: one call and calls of {chunk} differ"
             );
         }
     }
+    // The per-contact coefficients reach the results (for the models with a sliding law).
+    assert!(differ > 0, "per-contact k_t and gamma_t changed no result");
 }
 
 /// Many steps of an evolving scene: scalar and SIMD kernels keep identical histories (double),
