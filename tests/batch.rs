@@ -525,36 +525,29 @@ fn calls_with_and_without_prefetching_give_the_same_bits() {
         stiffness: Some(&k_t[c0..c1]),
         damping: Some(&gamma_t[c0..c1]),
     };
+    // One call's results, after checking that the calls of `chunk` gave the same.
+    let same = |[one, chunks]: [ResultBits; 2], what: String| {
+        assert!(
+            one == chunks,
+            "{what}: one call and calls of {chunk} differ"
+        );
+        one
+    };
     let mut differ = 0;
     for (model, _) in models() {
         for config in configs() {
-            let what = format!("{config:?}, {model:?}");
-            let [one, chunks] = [nc, chunk]
-                .map(|n| particle_major_in_calls(&sc, &model, config, |_, _| ModelSliding, n));
-            assert!(
-                one == chunks,
-                "particle-major, {what}: one call and calls of {chunk} differ"
-            );
-            let [one_k, chunks_k] =
-                [nc, chunk].map(|n| particle_major_in_calls(&sc, &model, config, overrides, n));
-            assert!(
-                one_k == chunks_k,
-                "particle-major, per-contact k_t and gamma_t, {what}: one call and calls of {chunk} differ"
-            );
-            differ += usize::from(one_k != one);
+            let what = |layout: &str, k: &str| format!("{layout}{k}, {config:?}, {model:?}");
+            let k = ", per-contact k_t and gamma_t";
             let none = |_, _| SlidingOverrides::NONE;
-            let [one, chunks] =
-                [nc, chunk].map(|n| contact_major_in_calls(&sc, &model, config, none, n));
-            assert!(
-                one == chunks,
-                "contact-major, {what}: one call and calls of {chunk} differ"
-            );
-            let [one_k, chunks_k] =
-                [nc, chunk].map(|n| contact_major_in_calls(&sc, &model, config, overrides, n));
-            assert!(
-                one_k == chunks_k,
-                "contact-major, per-contact k_t and gamma_t, {what}: one call and calls of {chunk} differ"
-            );
+            let sizes = [nc, chunk];
+            let particle = |n| particle_major_in_calls(&sc, &model, config, |_, _| ModelSliding, n);
+            let plain = same(sizes.map(particle), what("particle-major", ""));
+            let particle_k = |n| particle_major_in_calls(&sc, &model, config, overrides, n);
+            differ += usize::from(same(sizes.map(particle_k), what("particle-major", k)) != plain);
+            let contact = |n| contact_major_in_calls(&sc, &model, config, none, n);
+            same(sizes.map(contact), what("contact-major", ""));
+            let contact_k = |n| contact_major_in_calls(&sc, &model, config, overrides, n);
+            same(sizes.map(contact_k), what("contact-major", k));
         }
     }
     // The per-contact coefficients reach the results (for the models with a sliding law).
