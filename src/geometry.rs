@@ -88,11 +88,11 @@ pub fn pair_geometry_unchecked<T: Real>(
     };
     // The rule picks the two lengths, then one division: the SIMD batch kernels take the rule
     // from the model at run time, and with a division in each arm LLVM computed both.
-    let (a, b) = match options.rolling_radius {
+    let (length1, length2) = match options.rolling_radius {
         RollingRadiusRule::Exact => (branch1, branch2),
         RollingRadiusRule::Effective => (radius1, radius2),
     };
-    let rolling_radius = a * b / (a + b);
+    let rolling_radius = length1 * length2 / (length1 + length2);
     ContactGeometry {
         normal,
         distance,
