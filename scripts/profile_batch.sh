@@ -6,10 +6,14 @@
 #   scripts/profile_batch.sh [ROW] [WORKLOAD] [CONTACTS]
 #     ROW       the driver row to profile (default batch_f64_avx512; see bench/bench.c)
 #     WORKLOAD  A or B (default A); CONTACTS (default 1200000)
+#   REPS (environment, default 6): timed calls per row; SET (environment): only that physics set
+#   of the driver (full, rolltwist or sliding; default every set)
 #
 # Needs perf and addr2line (binutils). Prints the share of the kernel's samples per part, then
 # the share that lands on instructions addressing the stack frame (rows and spilled values), in
-# all and per part, and the size of the hottest kernel's hot code.
+# all and per part, and the size of the hottest kernel's hot code. The gathering's line also says
+# how much of it is the prefetches of the contacts ahead (the prefetch instructions and the
+# index loads and address arithmetic that feed them; none in calls that fit in cache).
 set -eu
 row=${1:-batch_f64_avx512}
 workload=${2:-A}
@@ -20,7 +24,8 @@ CARGO_PROFILE_RELEASE_DEBUG=line-tables-only CARGO_TARGET_DIR=$target cargo buil
 out=$(mktemp -d)
 scripts/build_driver.sh $target/release/librollslide.a "$out/driver"
 perf record -q -e cpu-clock -o "$out/perf.data" \
-  "$out/driver" "$contacts" ${REPS:-6} --workload="$workload" --only="$row" >/dev/null
+  "$out/driver" "$contacts" ${REPS:-6} --workload="$workload" --only="$row" \
+  ${SET:+--set="$SET"} >/dev/null
 # The kernels are named after their level and precision (x86::avx512_f64, scalar_f32...).
 case $row in
   *f32_avx512*) sym=avx512_f32 ;; *f32_avx2*) sym=avx2_f32 ;; *f32_scalar*) sym=scalar_f32 ;;
@@ -42,6 +47,7 @@ for line in open(sys.argv[2]):
     else:
         cur[1].append(line)
 parts = collections.Counter()
+prefetches = 0
 for addr, lines in blocks:
     names = [lines[i].split("<")[0].split("::")[-1] for i in range(0, len(lines) - 1, 2)]
     part = "other"
@@ -49,6 +55,8 @@ for addr, lines in blocks:
         if name in names:
             part = name
             break
+    if part == "gather" and "touch" in names:
+        prefetches += counts.get(addr, 0)
     if part in ("step_lanes", "step_one"):
         if "contact_step_with_geometry" in names:
             part = "physics"
@@ -63,6 +71,8 @@ for addr, lines in blocks:
 total = sum(parts.values()) or 1
 for part, n in parts.most_common():
     print(f"{100 * n / total:5.1f}%  {part}")
+    if part == "gather":
+        print(f"{100 * prefetches / total:5.1f}%    of which the prefetches of the contacts ahead")
 print(f"({total} samples)")
 EOF
 # How much of the kernel's time goes to instructions that address the stack frame (the block's
