@@ -16,9 +16,14 @@
 # spread): that is why the rounds alternate and the medians are compared.
 # MALLOC_MMAP_THRESHOLD_=4000000000 in the environment places the driver's arrays differently,
 # another placement to check against.
+# The memory floors and the hand-written loops are printed too: the same code on both sides
+# when only the library differs, so their ratios show how much the host moved between runs.
 # Besides the medians' ratio it prints the ratios of the lower quartiles and of the minima: on a
 # shared virtual machine whose runs of one binary fall into a fast and a slow mode (up to 1.7x
 # apart), the fast mode is what compares the code.
+# AFTER_ENV (environment): variables set for the after side's runs only, e.g. to compare one
+# library with and without huge pages for the host's arrays:
+#   AFTER_ENV=GLIBC_TUNABLES=glibc.malloc.hugetlb=1 scripts/ab_kernels.sh L.a L.a 1200000 5 ''
 # REPS (environment, default 3) is the number of timed calls per row and run, of which the
 # driver reports the fastest. On the 2-core Zen 3 virtual machine of docs/performance.md the
 # slow mode comes and goes while a process runs (the SIMD rows more than the hand-written
@@ -43,8 +48,12 @@ for side in before after; do
 done
 for _ in $(seq "$rounds"); do
   for side in before after; do
-    "$tmp/$side" "$contacts" "${REPS:-3}" --workload=A --only="$only" "$@" 2>&1 |
-      awk -v s="$side" '/^row/ && $2 != "floor" && $3 !~ /^floor/ {print s, $2 ":" $3, $4}'
+    extra=()
+    if [ "$side" = after ] && [ -n "${AFTER_ENV:-}" ]; then
+      read -ra extra <<<"$AFTER_ENV"
+    fi
+    env "${extra[@]}" "$tmp/$side" "$contacts" "${REPS:-3}" --workload=A --only="$only" "$@" 2>&1 |
+      awk -v s="$side" '/^row/ && $2 != "floor" {print s, $2 ":" $3, $4}'
   done
 done >"$tmp/runs"
 python3 - "$tmp/runs" <<'PY'
