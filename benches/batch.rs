@@ -283,6 +283,25 @@ fn load_average() -> String {
         .join(" ")
 }
 
+/// How the driver's arrays can get 2 MiB pages: the kernel's transparent huge page mode (the
+/// bracketed word of `/sys/kernel/mm/transparent_hugepage/enabled`: `always` gives them to
+/// every large allocation, `madvise` only to memory the program asks for) and `GLIBC_TUNABLES`
+/// as the driver inherits it (`glibc.malloc.hugetlb=1` makes malloc ask). Out of cache they
+/// took 1-18% off the rows of workload A and 40-50% off those of B on one host
+/// (docs/performance.md, "Huge pages"), so the table says which applied.
+fn huge_pages() -> String {
+    let mode = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled")
+        .ok()
+        .and_then(|t| {
+            let start = t.find('[')?;
+            let end = t[start..].find(']')?;
+            Some(t[start + 1..start + end].to_string())
+        })
+        .unwrap_or_else(|| "unknown".to_string());
+    let tunables = std::env::var("GLIBC_TUNABLES").unwrap_or_else(|_| "unset".to_string());
+    format!("transparent huge pages: {mode}; GLIBC_TUNABLES: {tunables}")
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     // `--slip=F` is passed to the driver (fraction of contacts beyond each law's limit).
@@ -292,7 +311,8 @@ fn main() {
     let exe = build_driver();
     let (cpu, simd) = cpu_info();
     let load_start = load_average();
-    println!("CPU: {cpu}; {simd}; load average (1, 5, 15 min) at start: {load_start}");
+    let pages = huge_pages();
+    println!("CPU: {cpu}; {simd}; {pages}; load average (1, 5, 15 min) at start: {load_start}");
     let sizes: &[(usize, usize)] = if quick {
         &[(100_000, 3), (2_000, 3)]
     } else {
@@ -327,7 +347,7 @@ fn main() {
         extra.iter().map(|a| format!(" ({a})")).collect::<String>()
     );
     let mut md = format!(
-        "## rollslide batch benchmark{}\n\nCPU: {cpu}; {simd}. Load average (1, 5, 15 min): \
+        "## rollslide batch benchmark{}\n\nCPU: {cpu}; {simd}; {pages}. Load average (1, 5, 15 min): \
          {load_start} at the start, {load_end} at the end; driver runs took {elapsed:.0} s.\n\n\
          Each run's number for a row is the fastest of several timed calls ({}); every ratio is \
          taken within one run (row / the baseline of the same physics set, row / the floor \
