@@ -287,7 +287,7 @@ fn load_average() -> String {
 /// bracketed word of `/sys/kernel/mm/transparent_hugepage/enabled`: `always` gives them to
 /// every large allocation, `madvise` only to memory the program asks for) and `GLIBC_TUNABLES`
 /// as the driver inherits it (`glibc.malloc.hugetlb=1` makes malloc ask). Out of cache they
-/// took 1-18% off the rows of workload A and 39-49% off those of B on one host
+/// took 1-18% off the rows of workload A and 35-49% off those of B on one host
 /// (docs/performance.md, "Huge pages"), so the table says which applied.
 fn huge_pages() -> String {
     let mode = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled")

@@ -53,7 +53,7 @@ for _ in $(seq "$rounds"); do
       read -ra extra <<<"$AFTER_ENV"
     fi
     env "${extra[@]}" "$tmp/$side" "$contacts" "${REPS:-3}" --workload=A --only="$only" "$@" 2>&1 |
-      awk -v s="$side" '/^row/ && $2 != "floor" {print s, $2 ":" $3, $4}'
+      awk -v s="$side" '/^row/ {print s, $2 ":" $3, $4}'
   done
 done >"$tmp/runs"
 python3 - "$tmp/runs" <<'PY'
