@@ -4,9 +4,17 @@
 //! The kernel keeps its inputs in rows, one per quantity, so that each lane value is one vector
 //! load. Filling the rows value by value costs a load and a store per double: 33 doubles per
 //! contact in (two bodies and the state), 13 out. Here each struct is read as a few vectors and
-//! transposed in registers, so a group of eight contacts costs a handful of loads, shuffles and
+//! rearranged in registers, so a group of eight contacts costs a handful of loads, shuffles and
 //! stores per quantity. Measured on the full LAMMPS law set, AVX-512, in cache: 27 against 31 ns
-//! per contact (edited builds of the benchmark driver). The copies are exact: every
+//! per contact (edited builds of the benchmark driver).
+//!
+//! In, two words at a time: the 128-bit pairs of the even contacts in one register, those of the
+//! odd ones in another, then one unpack per row. The shuffle port is what the copies queue on,
+//! and this takes one shuffle per row (of eight lanes under AVX-512, of four under AVX2),
+//! against three for an 8 x 8 transposition and two for a 4 x 4 one; the inserts that merge
+//! the pairs can go to another port. Out,
+//! the transpositions stay: stores of pairs took 0-5% more time than the 8 x 8 transpositions
+//! under AVX-512. The copies are exact: every
 //! implementation here gives the rows and states of [`PortableCopy`] bit for bit (tested below).
 //!
 //! [`PortableCopy`]: crate::batch::PortableCopy
@@ -33,7 +41,7 @@ fn doubles<S>(s: &S) -> *const f64 {
     (s as *const S).cast::<f64>()
 }
 
-/// [`GroupCopy`] with AVX2: 4 x 4 transpositions in ymm registers.
+/// [`GroupCopy`] with AVX2: pairs of words into ymm registers (in), 4 x 4 transpositions (out).
 #[derive(Clone, Copy, Debug)]
 pub struct Avx2Copy {
     /// The state words a step can change ([`GroupCopy::writing`]): the only ones written back.
@@ -52,7 +60,8 @@ impl Avx2Copy {
     }
 }
 
-/// [`GroupCopy`] with AVX-512 F and DQ: 8 x 8 transpositions in zmm registers.
+/// [`GroupCopy`] with AVX-512 F and DQ: pairs of words into zmm registers (in), 8 x 8
+/// transpositions (out).
 #[derive(Clone, Copy, Debug)]
 pub struct Avx512Copy(());
 
@@ -157,7 +166,10 @@ mod avx2 {
         out
     }
 
-    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 2`.
+    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 2`: the pairs of contacts k and
+    /// k + 2 in one register and of k + 1 and k + 3 in another (a 128-bit load each, the upper
+    /// one merged by an insert, which needs no shuffle port), then one unpack per row. Two
+    /// shuffles for two rows of four, where a 4 x 4 transposition takes eight for four.
     ///
     /// # Safety
     /// Each `src[k]` points to at least `at + 2` readable doubles; the CPU has AVX2.
@@ -226,21 +238,6 @@ mod avx512 {
         ]
     }
 
-    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 8`.
-    ///
-    /// # Safety
-    /// Each `src[k]` points to at least `at + 8` readable doubles; the CPU has AVX-512 F.
-    #[inline]
-    #[target_feature(enable = "avx512f")]
-    pub unsafe fn words_to_rows(src: [*const f64; 8], at: usize, rows: [&mut GroupRow; 8]) {
-        // SAFETY: doubles `at..at + 8` of each source, inside the caller's bound.
-        let w: [__m512d; 8] = std::array::from_fn(|k| unsafe { _mm512_loadu_pd(src[k].add(at)) });
-        for (row, v) in rows.into_iter().zip(transpose8(w)) {
-            // SAFETY: a row of a group is eight writable doubles.
-            unsafe { _mm512_storeu_pd(row.as_mut_ptr(), v) };
-        }
-    }
-
     /// Double `at + i` of `dst[k]` = `rows[i][k]`, for `i < 8`.
     ///
     /// # Safety
@@ -257,7 +254,11 @@ mod avx512 {
         }
     }
 
-    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 2`.
+    /// `rows[0][k]`, `rows[1][k]` = doubles `at`, `at + 1` of `src[k]`. The pairs of the even
+    /// contacts go to one register and those of the odd ones to another, a 128-bit load each
+    /// (three of the four merged by inserts), and one unpack makes each row: two shuffles for
+    /// two rows, where an 8 x 8 transposition takes six, and the inserts can issue on a second
+    /// port.
     ///
     /// # Safety
     /// Each `src[k]` points to at least `at + 2` readable doubles; the CPU has AVX-512 F, DQ.
@@ -266,21 +267,19 @@ mod avx512 {
     pub unsafe fn pairs_to_rows(src: [*const f64; 8], at: usize, rows: [&mut GroupRow; 2]) {
         // SAFETY: doubles `at..at + 2` of a source, inside the caller's bound.
         let pair = |k: usize| unsafe { _mm_loadu_pd(src[k].add(at)) };
-        // Contacts 0-3, then 4-7, two doubles each: [w0 w1 | w0 w1 | w0 w1 | w0 w1].
+        // Contacts k, k + 2, k + 4, k + 6, two doubles each.
         let four = |k: usize| {
             let v = _mm512_castpd128_pd512(pair(k));
-            let v = _mm512_insertf64x2::<1>(v, pair(k + 1));
-            let v = _mm512_insertf64x2::<2>(v, pair(k + 2));
-            _mm512_insertf64x2::<3>(v, pair(k + 3))
+            let v = _mm512_insertf64x2::<1>(v, pair(k + 2));
+            let v = _mm512_insertf64x2::<2>(v, pair(k + 4));
+            _mm512_insertf64x2::<3>(v, pair(k + 6))
         };
-        let (x, y) = (four(0), four(4));
-        let first = _mm512_set_epi64(14, 12, 10, 8, 6, 4, 2, 0);
-        let second = _mm512_set_epi64(15, 13, 11, 9, 7, 5, 3, 1);
+        let (even, odd) = (four(0), four(1));
         let [row0, row1] = rows;
         // SAFETY: a row of a group is eight writable doubles.
         unsafe {
-            _mm512_storeu_pd(row0.as_mut_ptr(), _mm512_permutex2var_pd(x, first, y));
-            _mm512_storeu_pd(row1.as_mut_ptr(), _mm512_permutex2var_pd(x, second, y));
+            _mm512_storeu_pd(row0.as_mut_ptr(), _mm512_unpacklo_pd(even, odd));
+            _mm512_storeu_pd(row1.as_mut_ptr(), _mm512_unpackhi_pd(even, odd));
         }
     }
 }
@@ -327,8 +326,8 @@ unsafe fn body_pointers(
     Some([side(0), side(1)])
 }
 
-/// `rows[q][k]` = word `q` of the sphere whose first double `src[k]` points to, by AVX2 4 x 4
-/// transpositions of words 0..4 and 4..8 and a 2-word one of words 8..10.
+/// `rows[q][k]` = word `q` of the sphere whose first double `src[k]` points to, two words at a
+/// time (`avx2::pairs_to_rows`).
 ///
 /// # Safety
 /// The CPU must have AVX2; each `src[k]` must point to a whole `rsl_sphere`.
@@ -337,16 +336,17 @@ unsafe fn body_pointers(
 unsafe fn avx2_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
     let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
     // SAFETY: the caller's contract; a sphere is `BODY_WORDS` = 10 doubles (asserted above), so
-    // words 0..4, 4..8 and 8..10 are inside it.
+    // words 0..2, 2..4, 4..6, 6..8 and 8..10 are inside it.
     unsafe {
-        avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
-        avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
+        avx2::pairs_to_rows(src, 0, [r0, r1]);
+        avx2::pairs_to_rows(src, 2, [r2, r3]);
+        avx2::pairs_to_rows(src, 4, [r4, r5]);
+        avx2::pairs_to_rows(src, 6, [r6, r7]);
         avx2::pairs_to_rows(src, 8, [r8, r9]);
     }
 }
 
-/// As [`avx2_bodies`], by an AVX-512 8 x 8 transposition of words 0..8 and a 2-word one of
-/// words 8..10.
+/// As [`avx2_bodies`], eight contacts per register (`avx512::pairs_to_rows`).
 ///
 /// # Safety
 /// The CPU must have AVX-512 F and DQ; each `src[k]` must point to a whole `rsl_sphere`.
@@ -354,9 +354,12 @@ unsafe fn avx2_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS
 #[inline(always)]
 unsafe fn avx512_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
     let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
-    // SAFETY: as in `avx2_bodies`: words 0..8 and 8..10 are inside a sphere.
+    // SAFETY: as in `avx2_bodies`: words 0..2, ..., 8..10 are inside a sphere.
     unsafe {
-        avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, r5, r6, r7]);
+        avx512::pairs_to_rows(src, 0, [r0, r1]);
+        avx512::pairs_to_rows(src, 2, [r2, r3]);
+        avx512::pairs_to_rows(src, 4, [r4, r5]);
+        avx512::pairs_to_rows(src, 6, [r6, r7]);
         avx512::pairs_to_rows(src, 8, [r8, r9]);
     }
 }
@@ -488,13 +491,16 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
         let src = states.map(doubles);
         let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
         // SAFETY: as in `bodies`; a state starts with `STATE_WORDS` = 13 doubles (asserted
-        // above): words 0..4, 4..8, 8..12 and 9..13 are inside them. Rows 9..12 are written
+        // above): words 0..2, 2..4, ..., 10..12 and 11..13 are inside them. Row 11 is written
         // twice with the same values.
         unsafe {
-            avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
-            avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
-            avx2::words_to_rows(src, 8, [r8, &mut *r9, &mut *r10, &mut *r11]);
-            avx2::words_to_rows(src, 9, [r9, r10, r11, r12]);
+            avx2::pairs_to_rows(src, 0, [r0, r1]);
+            avx2::pairs_to_rows(src, 2, [r2, r3]);
+            avx2::pairs_to_rows(src, 4, [r4, r5]);
+            avx2::pairs_to_rows(src, 6, [r6, r7]);
+            avx2::pairs_to_rows(src, 8, [r8, r9]);
+            avx2::pairs_to_rows(src, 10, [r10, &mut *r11]);
+            avx2::pairs_to_rows(src, 11, [r11, r12]);
         }
     }
 
@@ -584,11 +590,16 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
         let src = states.map(doubles);
         let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
         // SAFETY: as in `bodies`; a state starts with `STATE_WORDS` = 13 doubles (asserted
-        // above): words 0..8 and 5..13 are inside them. Rows 5..8 are written twice with the
-        // same values.
+        // above): words 0..2, 2..4, ..., 10..12 and 11..13 are inside them. Row 11 is written
+        // twice with the same values.
         unsafe {
-            avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, &mut *r5, &mut *r6, &mut *r7]);
-            avx512::words_to_rows(src, 5, [r5, r6, r7, r8, r9, r10, r11, r12]);
+            avx512::pairs_to_rows(src, 0, [r0, r1]);
+            avx512::pairs_to_rows(src, 2, [r2, r3]);
+            avx512::pairs_to_rows(src, 4, [r4, r5]);
+            avx512::pairs_to_rows(src, 6, [r6, r7]);
+            avx512::pairs_to_rows(src, 8, [r8, r9]);
+            avx512::pairs_to_rows(src, 10, [r10, &mut *r11]);
+            avx512::pairs_to_rows(src, 11, [r11, r12]);
         }
     }
 
