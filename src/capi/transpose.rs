@@ -9,12 +9,13 @@
 //! per contact (edited builds of the benchmark driver).
 //!
 //! In, two words at a time: the 128-bit pairs of the even contacts in one register, those of the
-//! odd ones in another, then one unpack per row. The shuffle port is what the copies queue on,
-//! and this takes one shuffle per row (of eight lanes under AVX-512, of four under AVX2),
+//! odd ones in another, then one unpack per row. Shuffles issue on a single port of recent
+//! Intel cores, and this takes one per row (of eight lanes under AVX-512, of four under AVX2),
 //! against three for an 8 x 8 transposition and two for a 4 x 4 one; the inserts that merge
-//! the pairs can go to another port. Out,
-//! the transpositions stay: stores of pairs took 0-5% more time than the 8 x 8 transpositions
-//! under AVX-512. The copies are exact: every
+//! the pairs can go to another port. In cache it took 3-8% off the batch rows (the docs'
+//! performance page, "The gather by pairs of words"). Out, the transpositions stay: stores of
+//! pairs took 0-6% more time than the 8 x 8 transpositions under AVX-512. The copies are
+//! exact: every
 //! implementation here gives the rows and states of [`PortableCopy`] bit for bit (tested below).
 //!
 //! [`PortableCopy`]: crate::batch::PortableCopy
