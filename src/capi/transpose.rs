@@ -15,8 +15,8 @@
 //! the pairs can go to another port. In cache it took 3-8% off the batch rows (the docs'
 //! performance page, "The gather by pairs of words"). Out, the transpositions stay: stores of
 //! pairs took 0-6% more time than the 8 x 8 transpositions under AVX-512. The copies are
-//! exact: every
-//! implementation here gives the rows and states of [`PortableCopy`] bit for bit (tested below).
+//! exact: every implementation here gives the rows and states of [`PortableCopy`] bit for bit
+//! (tested below).
 //!
 //! [`PortableCopy`]: crate::batch::PortableCopy
 
