@@ -8,15 +8,18 @@
 //! stores per quantity. Measured on the full LAMMPS law set, AVX-512, in cache: 27 against 31 ns
 //! per contact (edited builds of the benchmark driver).
 //!
-//! In, two words at a time: the 128-bit pairs of the even contacts in one register, those of the
-//! odd ones in another, then one unpack per row. Shuffles issue on a single port of recent
-//! Intel cores, and this takes one per row (of eight lanes under AVX-512, of four under AVX2),
-//! against three for an 8 x 8 transposition and two for a 4 x 4 one; the inserts that merge
-//! the pairs can go to another port. In cache it took 3-8% off the batch rows (the docs'
-//! performance page, "The gather by pairs of words"). Out, the transpositions stay: stores of
-//! pairs took 0-6% more time than the 8 x 8 transpositions under AVX-512. The copies are
-//! exact: every implementation here gives the rows and states of [`PortableCopy`] bit for bit
-//! (tested below).
+//! The states go in two words at a time: the 128-bit pairs of the even contacts in one register,
+//! those of the odd ones in another, then one unpack per row. Shuffles issue on a single port
+//! of recent Intel cores, and this takes one per row (of eight lanes under AVX-512, of four
+//! under AVX2), against three for an 8 x 8 transposition and two for a 4 x 4 one; the inserts
+//! that merge the pairs can go to another port. In cache it took 3-6% off the batch rows. The
+//! bodies go in by whole transpositions (two loads per sphere instead of five): by pairs they
+//! were at most 2% faster in cache, but on randomly permuted particles at 1.2M contacts, where
+//! body 2 is a scattered read, the double kernels took up to 14% more time. Out, the
+//! transpositions stay: stores of pairs took 0-6% more time than the 8 x 8 transpositions
+//! under AVX-512. The figures are in the docs' performance page, "The gather by pairs of
+//! words". The copies are exact: every implementation here gives the rows and states of
+//! [`PortableCopy`] bit for bit (tested below).
 //!
 //! [`PortableCopy`]: crate::batch::PortableCopy
 
@@ -42,7 +45,8 @@ fn doubles<S>(s: &S) -> *const f64 {
     (s as *const S).cast::<f64>()
 }
 
-/// [`GroupCopy`] with AVX2: pairs of words into ymm registers (in), 4 x 4 transpositions (out).
+/// [`GroupCopy`] with AVX2: bodies in by 4 x 4 transpositions, states in by pairs of words,
+/// states and loads out by 4 x 4 transpositions (ymm registers).
 #[derive(Clone, Copy, Debug)]
 pub struct Avx2Copy {
     /// The state words a step can change ([`GroupCopy::writing`]): the only ones written back.
@@ -61,8 +65,8 @@ impl Avx2Copy {
     }
 }
 
-/// [`GroupCopy`] with AVX-512 F and DQ: pairs of words into zmm registers (in), 8 x 8
-/// transpositions (out).
+/// [`GroupCopy`] with AVX-512 F and DQ: bodies in by 8 x 8 transpositions, states in by pairs of
+/// words, states and loads out by 8 x 8 transpositions (zmm registers).
 #[derive(Clone, Copy, Debug)]
 pub struct Avx512Copy(());
 
@@ -239,6 +243,21 @@ mod avx512 {
         ]
     }
 
+    /// `rows[i][k]` = double `at + i` of `src[k]`, for `i < 8`.
+    ///
+    /// # Safety
+    /// Each `src[k]` points to at least `at + 8` readable doubles; the CPU has AVX-512 F.
+    #[inline]
+    #[target_feature(enable = "avx512f")]
+    pub unsafe fn words_to_rows(src: [*const f64; 8], at: usize, rows: [&mut GroupRow; 8]) {
+        // SAFETY: doubles `at..at + 8` of each source, inside the caller's bound.
+        let w: [__m512d; 8] = std::array::from_fn(|k| unsafe { _mm512_loadu_pd(src[k].add(at)) });
+        for (row, v) in rows.into_iter().zip(transpose8(w)) {
+            // SAFETY: a row of a group is eight writable doubles.
+            unsafe { _mm512_storeu_pd(row.as_mut_ptr(), v) };
+        }
+    }
+
     /// Double `at + i` of `dst[k]` = `rows[i][k]`, for `i < 8`.
     ///
     /// # Safety
@@ -327,8 +346,9 @@ unsafe fn body_pointers(
     Some([side(0), side(1)])
 }
 
-/// `rows[q][k]` = word `q` of the sphere whose first double `src[k]` points to, two words at a
-/// time (`avx2::pairs_to_rows`).
+/// `rows[q][k]` = word `q` of the sphere whose first double `src[k]` points to, by AVX2 4 x 4
+/// transpositions of words 0..4 and 4..8 and a pair of words 8..10 (whole transpositions, not
+/// pairs: see the module comment).
 ///
 /// # Safety
 /// The CPU must have AVX2; each `src[k]` must point to a whole `rsl_sphere`.
@@ -337,17 +357,16 @@ unsafe fn body_pointers(
 unsafe fn avx2_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
     let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
     // SAFETY: the caller's contract; a sphere is `BODY_WORDS` = 10 doubles (asserted above), so
-    // words 0..2, 2..4, 4..6, 6..8 and 8..10 are inside it.
+    // words 0..4, 4..8 and 8..10 are inside it.
     unsafe {
-        avx2::pairs_to_rows(src, 0, [r0, r1]);
-        avx2::pairs_to_rows(src, 2, [r2, r3]);
-        avx2::pairs_to_rows(src, 4, [r4, r5]);
-        avx2::pairs_to_rows(src, 6, [r6, r7]);
+        avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
+        avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
         avx2::pairs_to_rows(src, 8, [r8, r9]);
     }
 }
 
-/// As [`avx2_bodies`], eight contacts per register (`avx512::pairs_to_rows`).
+/// As [`avx2_bodies`], by an AVX-512 8 x 8 transposition of words 0..8 and a pair of words
+/// 8..10.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F and DQ; each `src[k]` must point to a whole `rsl_sphere`.
@@ -355,12 +374,9 @@ unsafe fn avx2_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS
 #[inline(always)]
 unsafe fn avx512_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
     let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9] = rows;
-    // SAFETY: as in `avx2_bodies`: words 0..2, ..., 8..10 are inside a sphere.
+    // SAFETY: as in `avx2_bodies`: words 0..8 and 8..10 are inside a sphere.
     unsafe {
-        avx512::pairs_to_rows(src, 0, [r0, r1]);
-        avx512::pairs_to_rows(src, 2, [r2, r3]);
-        avx512::pairs_to_rows(src, 4, [r4, r5]);
-        avx512::pairs_to_rows(src, 6, [r6, r7]);
+        avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, r5, r6, r7]);
         avx512::pairs_to_rows(src, 8, [r8, r9]);
     }
 }
