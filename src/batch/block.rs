@@ -964,6 +964,7 @@ fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
 ) {
     if PREFETCH {
         access.touch(c + TOUCH_AHEAD);
+        access.touch_in_order(c + TOUCH_AHEAD);
     }
     let (one, two, index_ok) = access.body_refs(c);
     let (one, two): (Sphere<f64>, Sphere<f64>) = (one.sphere(), two.sphere());
@@ -1135,6 +1136,14 @@ pub fn step_kernel<
         let mut at = 0;
         while at < count {
             step_lanes::<L>(&folded, dt, needs_kn, given, fused, at, &mut block);
+            // What the contacts `TOUCH_AHEAD` further on read in contact order, one lane
+            // step's worth after each step: spread among the arithmetic, where the gather issues
+            // the scattered rest a group at a time ([`Gather::touch_in_order`]).
+            if PREFETCH {
+                for k in 0..L::N {
+                    access.touch_in_order(c0 + at + k + TOUCH_AHEAD);
+                }
+            }
             at += L::N;
         }
         deliver(
