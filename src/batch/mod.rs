@@ -281,8 +281,8 @@ pub trait Gather {
     fn touch_in_order(&self, _c: usize) {}
     /// Bytes of every host array the call reads or writes.
     fn footprint(&self) -> usize;
-    /// Whether the kernels call [`Gather::touch`]: only for calls of at least
-    /// [`PREFETCH_MIN_BYTES`].
+    /// Whether the kernels call [`Gather::touch`] and [`Gather::touch_in_order`]: only for
+    /// calls of at least [`PREFETCH_MIN_BYTES`].
     #[inline(always)]
     fn prefetching(&self) -> bool {
         self.footprint() >= PREFETCH_MIN_BYTES
