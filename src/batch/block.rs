@@ -397,8 +397,10 @@ fn group<const Q: usize>(rows: &[Row; Q], g: usize) -> [&GroupRow; Q] {
 /// [`GROUP`] at a time, and pads the slots of the last group with the last contact (their
 /// results are dropped). With 16 lanes a step can also cover slots past the last group, which
 /// keep an earlier block's values (or the initial ones): their lanes are stepped and dropped
-/// in the same way. Touches the contacts `TOUCH_AHEAD` further on when `PREFETCH`
-/// ([`Gather::prefetching`](super::Gather::prefetching)).
+/// in the same way. When `PREFETCH` ([`Gather::prefetching`](super::Gather::prefetching)),
+/// calls [`Gather::touch`](super::Gather::touch) for the contacts `TOUCH_AHEAD` further on;
+/// their in-order part ([`Gather::touch_in_order`](super::Gather::touch_in_order)) goes after
+/// each lane step, in [`step_kernel`].
 #[inline(always)]
 fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     access: &A,
