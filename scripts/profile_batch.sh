@@ -13,7 +13,9 @@
 # the share that lands on instructions addressing the stack frame (rows and spilled values), in
 # all and per part, and the size of the hottest kernel's hot code. The gathering's line also says
 # how much of it is the prefetches of the contacts ahead (the prefetch instructions and the
-# index loads and address arithmetic that feed them; none in calls that fit in cache).
+# index loads and address arithmetic that feed them; none in calls that fit in cache); the
+# lines the contacts ahead read in contact order are touched after each lane step instead
+# (Gather::touch_in_order), and have a line of their own.
 set -eu
 row=${1:-batch_f64_avx512}
 workload=${2:-A}
@@ -57,6 +59,8 @@ for addr, lines in blocks:
             break
     if part == "gather" and "touch" in names:
         prefetches += counts.get(addr, 0)
+    if part == "other" and "touch_in_order" in names:
+        part = "prefetches in contact order, after each lane step"
     if part in ("step_lanes", "step_one"):
         if "contact_step_with_geometry" in names:
             part = "physics"
