@@ -114,7 +114,8 @@
  *                   no clip taken, the scalar baselines' best case); compared with
  *                   baseline_c[noslip]
  *   batch_f64_<l>[SCENE]  workload A only: rsl_batch_step of the other scenes at each level,
- *                   f64: full/exact, slide+roll/exact, generic(full/lammps) (group full),
+ *                   f64: full/exact, slide+roll/exact, generic(full/lammps),
+ *                   slide+roll/lammps, generic(slide+roll/lammps) (group full),
  *                   roll+twist/exact, generic(rolltwist) (group rolltwist), sliding/exact,
  *                   generic(sliding) (group sliding), and generic(S) for each exact scene S.
  *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
@@ -1196,7 +1197,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 11 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 13 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1212,7 +1213,8 @@ int main(int argc, char **argv) {
     rsl_model *full_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 1, 1),
               *slide_roll_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 1, 0),
               *roll_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 1, 1),
-              *sliding_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 0);
+              *sliding_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 0),
+              *slide_roll_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 0);
     /* other scenes (workload A), each in the group whose floor and baseline it is set against;
      * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
@@ -1226,6 +1228,8 @@ int main(int argc, char **argv) {
         {"slide+roll/exact", slide_roll_exact, 0, FULL},
         {"generic(slide+roll/exact)", slide_roll_exact, RSL_BATCH_GENERIC, FULL},
         {"generic(full/lammps)", set_model[FULL], RSL_BATCH_GENERIC, FULL},
+        {"slide+roll/lammps", slide_roll_lammps, 0, FULL},
+        {"generic(slide+roll/lammps)", slide_roll_lammps, RSL_BATCH_GENERIC, FULL},
         {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
         {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},

@@ -77,6 +77,9 @@
 // law.
 #define RSL_SCENE_ROLLING_TWISTING_EXACT 7
 
+// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
+#define RSL_SCENE_SLIDING_ROLLING_LAMMPS 8
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

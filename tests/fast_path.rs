@@ -343,6 +343,7 @@ fn scene_result_test_never_passes_a_non_finite_result() {
                 Scene::SlidingLammps => scene_step::<5>(&model, &c),
                 Scene::RollingTwistingLammps => scene_step::<6>(&model, &c),
                 Scene::RollingTwistingExact => scene_step::<7>(&model, &c),
+                Scene::SlidingRollingLammps => scene_step::<8>(&model, &c),
                 Scene::Generic => unreachable!("scene_models gives specialised scenes"),
             };
             let Some((passed, o, next)) = step else {

@@ -32,11 +32,13 @@ pub enum Scene {
     /// Objective preset, exact transport: EPSD rolling (given k, gamma, damping always, length
     /// form) + sds twisting, no sliding law.
     RollingTwistingExact = 7,
+    /// LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
+    SlidingRollingLammps = 8,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 8] = [
+    pub const ALL: [Scene; 9] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
@@ -45,6 +47,7 @@ impl Scene {
         Scene::SlidingLammps,
         Scene::RollingTwistingLammps,
         Scene::RollingTwistingExact,
+        Scene::SlidingRollingLammps,
     ];
 
     /// A short name (benchmark tables).
@@ -58,6 +61,7 @@ impl Scene {
             Scene::SlidingLammps => "sliding/lammps",
             Scene::RollingTwistingLammps => "roll+twist/lammps",
             Scene::RollingTwistingExact => "roll+twist/exact",
+            Scene::SlidingRollingLammps => "slide+roll/lammps",
         }
     }
 
@@ -73,6 +77,7 @@ impl Scene {
             5 => Scene::SlidingLammps,
             6 => Scene::RollingTwistingLammps,
             7 => Scene::RollingTwistingExact,
+            8 => Scene::SlidingRollingLammps,
             _ => Scene::Generic,
         }
     }
@@ -104,6 +109,7 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
         Scene::SlidingLammps => (true, false, false, lammps),
         Scene::RollingTwistingLammps => (false, true, true, lammps),
         Scene::RollingTwistingExact => (false, true, true, exact),
+        Scene::SlidingRollingLammps => (true, true, false, lammps),
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear

@@ -90,6 +90,8 @@ pub const RSL_SCENE_ROLLING_TWISTING_LAMMPS: u32 = 6;
 /// Scene kernel: objective preset, exact transport, EPSD rolling + sds twisting, no sliding
 /// law.
 pub const RSL_SCENE_ROLLING_TWISTING_EXACT: u32 = 7;
+/// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
+pub const RSL_SCENE_SLIDING_ROLLING_LAMMPS: u32 = 8;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -730,7 +732,8 @@ pub fn run_step<A: CAccess>(
             SlidingRollingExact,
             SlidingLammps,
             RollingTwistingLammps,
-            RollingTwistingExact
+            RollingTwistingExact,
+            SlidingRollingLammps
         ],
         access,
         (model, dt, access)
@@ -766,7 +769,12 @@ pub fn run_history_step<const W: usize, V: AddSlot>(
         SPRINGS_ONLY => by_kernel!(
             config,
             scene,
-            [FullLammps, SlidingLammps, RollingTwistingLammps],
+            [
+                FullLammps,
+                SlidingLammps,
+                RollingTwistingLammps,
+                SlidingRollingLammps
+            ],
             access,
             (model, dt, access)
         ),
@@ -1791,6 +1799,10 @@ mod tests {
             (
                 RSL_SCENE_ROLLING_TWISTING_EXACT,
                 Scene::RollingTwistingExact,
+            ),
+            (
+                RSL_SCENE_SLIDING_ROLLING_LAMMPS,
+                Scene::SlidingRollingLammps,
             ),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());

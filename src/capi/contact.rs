@@ -604,11 +604,11 @@ pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
     scene_steps(avx2)[scene as usize]
 }
 
-/// `[f::<0>, ..., f::<7>]`: a step function for each scene code.
+/// `[f::<0>, ..., f::<8>]`: a step function for each scene code.
 macro_rules! per_scene {
     ($f:ident) => {
         [
-            $f::<0>, $f::<1>, $f::<2>, $f::<3>, $f::<4>, $f::<5>, $f::<6>, $f::<7>,
+            $f::<0>, $f::<1>, $f::<2>, $f::<3>, $f::<4>, $f::<5>, $f::<6>, $f::<7>, $f::<8>,
         ]
     };
 }
@@ -616,17 +616,22 @@ macro_rules! per_scene {
 /// The steps of each scene (indexed by `Scene as usize`, the scene's code), the AVX2 builds or
 /// the portable ones. Only a CPU with AVX2 and FMA may call the AVX2 builds.
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
-fn scene_steps(avx2: bool) -> [PairSteps; 8] {
+fn scene_steps(avx2: bool) -> [PairSteps; Scene::ALL.len()] {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
-        let (out, accumulate): ([OutStep; 8], [AccumulateStep; 8]) =
-            (per_scene!(out_step_avx2), per_scene!(accumulate_step_avx2));
+        let (out, accumulate): (
+            [OutStep; Scene::ALL.len()],
+            [AccumulateStep; Scene::ALL.len()],
+        ) = (per_scene!(out_step_avx2), per_scene!(accumulate_step_avx2));
         return std::array::from_fn(|i| PairSteps {
             out: out[i],
             accumulate: accumulate[i],
         });
     }
-    let (out, accumulate): ([OutStep; 8], [AccumulateStep; 8]) = (
+    let (out, accumulate): (
+        [OutStep; Scene::ALL.len()],
+        [AccumulateStep; Scene::ALL.len()],
+    ) = (
         per_scene!(out_step_portable),
         per_scene!(accumulate_step_portable),
     );

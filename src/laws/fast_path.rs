@@ -280,6 +280,7 @@ pub fn contact_step_pair_fast(
             Scene::SlidingLammps => try_step_pair::<5>(model, body1, body2, input, state),
             Scene::RollingTwistingLammps => try_step_pair::<6>(model, body1, body2, input, state),
             Scene::RollingTwistingExact => try_step_pair::<7>(model, body1, body2, input, state),
+            Scene::SlidingRollingLammps => try_step_pair::<8>(model, body1, body2, input, state),
         };
         if let Some((out, next)) = fast {
             *state = next;

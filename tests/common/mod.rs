@@ -42,6 +42,8 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     roll_twist_lammps.sliding.law = SlidingLaw::None;
     let mut roll_twist = full;
     roll_twist.sliding.law = SlidingLaw::None;
+    let mut slide_roll_lammps = lammps;
+    slide_roll_lammps.twisting.law = TwistingLaw::None;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -50,6 +52,7 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (sliding_lammps, Scene::SlidingLammps),
         (roll_twist_lammps, Scene::RollingTwistingLammps),
         (roll_twist, Scene::RollingTwistingExact),
+        (slide_roll_lammps, Scene::SlidingRollingLammps),
     ]
 }
 
