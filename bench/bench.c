@@ -971,6 +971,22 @@ static void accumulate_loads(scene *s) {
 static rsl_vec3 *REF_F, *REF_T;
 static rsl_contact_state *REF_ST;
 
+/* Which fields MODEL's packed record keeps (a probe state packed and unpacked: a field left
+ * out comes back zero). */
+static int KEEPS_SLIDING, KEEPS_NORMAL, KEEPS_OFFAXIS;
+static void probe_history_layout(void) {
+    rsl_contact_state probe, back;
+    memset(&probe, 0, sizeof probe);
+    probe.sliding_spring.x = probe.previous_normal.x = probe.twisting_offaxis.x = 1.0;
+    double record[13];
+    if (rsl_history_from_state(MODEL, &probe, record) != RSL_OK ||
+        rsl_history_to_state(MODEL, record, &back) != RSL_OK)
+        exit(1);
+    KEEPS_SLIDING = back.sliding_spring.x == 1.0;
+    KEEPS_NORMAL = back.previous_normal.x == 1.0;
+    KEEPS_OFFAXIS = back.twisting_offaxis.x == 1.0;
+}
+
 /* The packed histories back into the states for the comparison: the record's fields; the
  * fields a record does not keep (and the slip flags) from the reference. */
 static void unpack_history(scene *s) {
@@ -978,11 +994,11 @@ static void unpack_history(scene *s) {
         rsl_contact_state u;
         if (rsl_history_to_state(MODEL, HIST + c * HWORDS, &u) != RSL_OK) exit(1);
         s->st[c] = REF_ST[c];
-        s->st[c].sliding_spring = u.sliding_spring;
+        if (KEEPS_SLIDING) s->st[c].sliding_spring = u.sliding_spring;
         s->st[c].rolling_spring = u.rolling_spring;
         s->st[c].twisting_angle = u.twisting_angle;
-        if (HWORDS >= 10) s->st[c].previous_normal = u.previous_normal;
-        if (HWORDS >= 13) s->st[c].twisting_offaxis = u.twisting_offaxis;
+        if (KEEPS_NORMAL) s->st[c].previous_normal = u.previous_normal;
+        if (KEEPS_OFFAXIS) s->st[c].twisting_offaxis = u.twisting_offaxis;
     }
 }
 
@@ -1264,6 +1280,7 @@ int main(int argc, char **argv) {
         run_baseline(&s, g, "", baseline[set], baseline_prefetch[set], reps);
         MODEL = set_model[set];
         check(rsl_model_history_size(MODEL, &HWORDS), "rsl_model_history_size");
+        probe_history_layout();
         if (want("percontact_acc_c"))
             row(g, "percontact_acc_c", timeit(&s, percontact_acc, reps), 1, &s);
         if (want("percontact_c")) row(g, "percontact_c", timeit(&s, percontact, reps), 1, &s);

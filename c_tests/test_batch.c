@@ -20,10 +20,8 @@ static void scene(rsl_sphere p[NP], uint32_t pairs[2 * NC], double fn[NC]) {
     }
 }
 
-static rsl_model *full_model(void) {
-    rsl_model *m = NULL;
-    CHECK_STATUS(rsl_model_new(RSL_PRESET_OBJECTIVE, &m), RSL_OK);
-    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
+/* EPSD rolling with given coefficients (the preset's form and damping mode kept). */
+static void set_rolling_epsd(rsl_model *m) {
     rsl_rolling_params rp;
     CHECK_STATUS(rsl_model_get_rolling(m, &rp), RSL_OK);
     rp.law = RSL_ROLLING_EPSD;
@@ -31,6 +29,13 @@ static rsl_model *full_model(void) {
     rp.damping = 1.0;
     rp.friction = 0.1;
     CHECK_STATUS(rsl_model_set_rolling(m, &rp), RSL_OK);
+}
+
+static rsl_model *full_model(void) {
+    rsl_model *m = NULL;
+    CHECK_STATUS(rsl_model_new(RSL_PRESET_OBJECTIVE, &m), RSL_OK);
+    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
+    set_rolling_epsd(m);
     CHECK_STATUS(rsl_model_set_twisting(m, RSL_TWISTING_SDS, 10.0, 0.1, 0.05), RSL_OK);
     return m;
 }
@@ -172,9 +177,10 @@ void test_batch_skips_invalid_contacts(void) {
     rsl_model_free(m);
 }
 
-/* Packed histories: record sizes per preset, pack/unpack, and rsl_batch_step_history equal to
- * rsl_batch_step bit for bit (LAMMPS: 7 words; objective: 10), bad records skipped with the
- * same report, call-level errors. */
+/* Packed histories: record sizes per preset, with and without a sliding law (without one the
+ * sliding spring is left out: 3 words fewer), pack/unpack, and rsl_batch_step_history equal to
+ * rsl_batch_step bit for bit (LAMMPS: 7 words, 4 without sliding; objective: 10), bad records
+ * skipped with the same report, call-level errors. */
 void test_batch_packed_histories(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
@@ -184,11 +190,15 @@ void test_batch_packed_histories(void) {
     const int32_t presets[4] = {RSL_PRESET_OBJECTIVE, RSL_PRESET_LAMMPS_2021,
                                 RSL_PRESET_LIGGGHTS_3_8, RSL_PRESET_YADE_2023};
     const size_t expected[4] = {10, 7, 7, 13};
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < 8; k++) {
         rsl_model *m = NULL;
-        CHECK_STATUS(rsl_model_new(presets[k], &m), RSL_OK);
+        CHECK_STATUS(rsl_model_new(presets[k / 2], &m), RSL_OK);
+        /* a new model has no sliding law; odd k sets one */
+        const int sliding = k % 2;
+        if (sliding)
+            CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
         CHECK_STATUS(rsl_model_history_size(m, &words), RSL_OK);
-        CHECK(words == expected[k]);
+        CHECK(words == expected[k / 2] - (sliding ? 0 : 3));
         /* pack then unpack: the record's fields come back, the others are zero */
         rsl_contact_state s, back;
         memset(&s, 0, sizeof s);
@@ -200,28 +210,39 @@ void test_batch_packed_histories(void) {
         s.slip_flags = 5;
         double h[13];
         CHECK_STATUS(rsl_history_from_state(m, &s, h), RSL_OK);
-        CHECK(h[0] == 1 && h[5] == 6 && h[6] == 7);
-        if (words >= 10) CHECK(h[7] == 11 && h[9] == 13);
-        if (words == 13) CHECK(h[10] == 8 && h[12] == 10);
+        /* the record is the run of (sliding 3, rolling 3, twisting 1, normal 3, off-axis 3)
+         * from its first word: 0 with a sliding law, 3 without */
+        const double *r = h - (sliding ? 0 : 3);
+        if (sliding) CHECK(r[0] == 1 && r[2] == 3);
+        CHECK(r[3] == 4 && r[5] == 6 && r[6] == 7);
+        const size_t end = words + (sliding ? 0 : 3);
+        if (end >= 10) CHECK(r[7] == 11 && r[9] == 13);
+        if (end == 13) CHECK(r[10] == 8 && r[12] == 10);
         CHECK_STATUS(rsl_history_to_state(m, h, &back), RSL_OK);
         CHECK(back.rolling_spring.z == 6 && back.twisting_angle == 7 && back.slip_flags == 0);
-        CHECK(back.previous_normal.x == (words >= 10 ? 11 : 0));
-        CHECK(back.twisting_offaxis.y == (words == 13 ? 9 : 0));
+        CHECK(back.sliding_spring.y == (sliding ? 2 : 0));
+        CHECK(back.previous_normal.x == (end >= 10 ? 11 : 0));
+        CHECK(back.twisting_offaxis.y == (end == 13 ? 9 : 0));
         CHECK_STATUS(rsl_history_from_state(m, NULL, h), RSL_ERR_NULL_POINTER);
         CHECK_STATUS(rsl_history_to_state(m, h, NULL), RSL_ERR_NULL_POINTER);
         rsl_model_free(m);
     }
     CHECK_STATUS(rsl_model_history_size(NULL, &words), RSL_ERR_NULL_POINTER);
 
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < 3; k++) {
         rsl_model *m = k == 0 ? full_model() : NULL;
-        if (k == 1) {
+        if (k >= 1) {
+            /* LAMMPS with sliding and twisting (7 words), then rolling and twisting (4) */
             CHECK_STATUS(rsl_model_new(RSL_PRESET_LAMMPS_2021, &m), RSL_OK);
-            CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
+            if (k == 1)
+                CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5),
+                             RSL_OK);
+            else
+                set_rolling_epsd(m);
             CHECK_STATUS(rsl_model_set_twisting(m, RSL_TWISTING_SDS, 10.0, 0.1, 0.05), RSL_OK);
         }
         CHECK_STATUS(rsl_model_history_size(m, &words), RSL_OK);
-        CHECK(words == (k == 0 ? 10u : 7u));
+        CHECK(words == (k == 0 ? 10u : k == 1 ? 7u : 4u));
         /* two steps of both calls from the same (zero) histories */
         rsl_contact_state s[NC];
         memset(s, 0, sizeof s);
@@ -241,14 +262,16 @@ void test_batch_packed_histories(void) {
                          RSL_OK);
         }
         CHECK(r1.processed == NC && r2.processed == NC && r1.scene == r2.scene);
+        if (k == 2) CHECK(r2.scene == RSL_SCENE_ROLLING_TWISTING_LAMMPS);
         CHECK(memcmp(f1, f2, sizeof f1) == 0 && memcmp(t1, t2, sizeof t1) == 0);
         for (int c = 0; c < NC; c++) {
             double packed[13];
             CHECK_STATUS(rsl_history_from_state(m, &s[c], packed), RSL_OK);
             CHECK(memcmp(packed, h + c * words, words * sizeof(double)) == 0);
         }
-        /* a non-finite record word: that contact skipped, its record untouched */
-        h[2 * words + 4] = NAN;
+        /* a non-finite record word (the rolling spring's y: word 4, or 1 without the sliding
+         * spring): that contact skipped, its record untouched */
+        h[2 * words + (k == 2 ? 1 : 4)] = NAN;
         double before[NC * 13];
         memcpy(before, h, sizeof h);
         CHECK_STATUS(rsl_batch_step_history(m, p, NP, pairs, NC, fn, NULL, 1e-4, NULL, h, f2, t2,

@@ -814,15 +814,18 @@ int32_t rsl_batch_step_indexed(const struct rsl_model *model,
                                struct rsl_vec3 *torque,
                                struct rsl_batch_report *report);
 
-// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`: 7 when
-// neither transport reads the previous normal (`RSL_TRANSPORT_PROJECT_RESCALE`,
-// `RSL_TRANSPORT_PROJECT`, `RSL_TRANSPORT_NONE`: the LAMMPS_2021 and LIGGGHTS_3_8 presets),
-// 10 when one does (`RSL_TRANSPORT_EXACT`, `RSL_TRANSPORT_FIRST_ORDER`: the objective
-// default), 13 with the YADE_2023 preset (which keeps its twisting moment as a vector). The
-// record holds, in this order: the sliding spring (3), the rolling spring (3), the twisting
-// angle, then with 10 or 13 words the previous normal (3), then with 13 the twisting off-axis
-// part (3): the fields of `rsl_contact_state` with the same meaning, those the model's step
-// reads. The size follows the model's preset and transports: changing them may change it.
+// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`. The record
+// holds the fields of `rsl_contact_state` the model's step reads, in this order: the sliding
+// spring (3; left out when the model has no sliding law, `RSL_SLIDING_NONE`), the rolling
+// spring (3), the twisting angle (1), the previous normal (3; kept when a transport reads it:
+// `RSL_TRANSPORT_EXACT` or `RSL_TRANSPORT_FIRST_ORDER`, as in the objective default; not with
+// `RSL_TRANSPORT_PROJECT_RESCALE`, `RSL_TRANSPORT_PROJECT` or `RSL_TRANSPORT_NONE`, as in the
+// LAMMPS_2021 and LIGGGHTS_3_8 presets), the twisting off-axis part (3; the YADE_2023 preset
+// only, which keeps its twisting moment as a vector). So, with a sliding law: 7 words for the
+// LAMMPS and LIGGGHTS presets, 10 for the objective one, 13 for YADE; without one, 4, 7 and
+// 10. The size follows the model's sliding law, preset and transports: ask for it after the
+// model's last change, and repack (`rsl_history_to_state`, then `rsl_history_from_state`
+// with the new model) if one of these changes.
 // Writes `*words` on success.
 //
 // Preconditions (the behaviour is undefined if they do not hold):
@@ -842,8 +845,8 @@ int32_t rsl_history_from_state(const struct rsl_model *model,
                                double *history);
 
 // Unpacks `model`'s history record (`rsl_model_history_size` doubles) into `state`: the
-// record's fields are copied, the others (the previous normal and the twisting off-axis part
-// when the record does not keep them, the slip flags) are set to zero.
+// record's fields are copied, the others (the sliding spring, the previous normal and the
+// twisting off-axis part when the record does not keep them, the slip flags) are set to zero.
 //
 // Preconditions (the behaviour is undefined if they do not hold):
 // `model` must be a live model; `history` readable for the record's doubles; `state` NULL or
@@ -857,8 +860,8 @@ int32_t rsl_history_to_state(const struct rsl_model *model,
 // `history + c * size` (see `rsl_model_history_size` for its layout; `rsl_history_from_state`
 // packs a `rsl_contact_state`). The records keep only what the step reads, so there is less
 // memory to move: for the LAMMPS_2021 preset 56 bytes per contact instead of the 112 of a
-// `rsl_contact_state` (up to 7% less time per contact on the benchmark's host:
-// docs/performance.md).
+// `rsl_contact_state` (up to 7% less time per contact on the benchmark's host), 32 without a
+// sliding law (another 5% less for rolling + twisting: docs/performance.md).
 // Slip flags are not kept. Everything else (physics, validation, skipping, report, the order
 // of the additions) is that of `rsl_batch_step`, whose loads and new histories this call
 // reproduces bit for bit in double precision (with the state's other fields zero).

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{full_model, scene_models, Rng};
-use rollslide::batch::history::{history_words, words_from_state};
+use rollslide::batch::history::{history_layout, words_from_state, HistoryLayout};
 use rollslide::batch::{
     BatchReport, ContactStates, ContactSteps, Gather, IndexedStates, ModelSliding,
     ParticleDecompose, ParticleSteps, Scene, SlidingOverrides, SlidingSource, StepAccess,
@@ -19,7 +19,7 @@ use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use rollslide::decompose::{decompose_pair, Parts, Sphere};
 use rollslide::error::Error;
 use rollslide::laws::checked::contact_step_pair;
-use rollslide::laws::model::{Model, Preset, RollingLaw, Transport};
+use rollslide::laws::model::{Model, Preset, RollingLaw, SlidingLaw, Transport};
 use rollslide::laws::step::{ContactState, StepInput};
 use rollslide::GeometryOptions;
 
@@ -871,28 +871,42 @@ fn underflowing_centre_distance_is_refused_in_every_kernel() {
 
 /// The particle-major call on packed histories (`rsl_batch_step_history`'s kernels) against the
 /// call on full states, with the fields a record does not keep set to zero: the same report,
-/// and bit for bit the same loads and new record words, for every model, precision, SIMD level
-/// and scene kernel (the records fill the block's rows with exactly the values the states do).
-/// A non-finite word in a record is skipped as in a state.
+/// and bit for bit the same loads and new record words, for every model (and so every record
+/// layout: with and without the sliding spring), precision, SIMD level and scene kernel (the
+/// records fill the block's rows with exactly the values the states do). A non-finite word in
+/// a record is skipped as in a state.
 #[test]
 fn packed_histories_step_as_full_states() {
     let dt = 1e-4;
-    let mut layouts = std::collections::BTreeSet::new();
-    for (model, scene) in models() {
-        let words = history_words(&model);
-        layouts.insert(words);
+    let mut layouts = Vec::new();
+    let mut all = models();
+    // The generic kernel on the layouts without the sliding spring: YADE (10 words from word
+    // 3) and LIGGGHTS (4 words from word 3, which the LAMMPS scene also has).
+    for (model, _) in models() {
+        if matches!(model.preset, Preset::Yade2023 | Preset::Liggghts38) {
+            let mut no_sliding = model;
+            no_sliding.sliding.law = SlidingLaw::None;
+            all.push((no_sliding, Scene::Generic));
+        }
+    }
+    for (model, scene) in all {
+        let layout = history_layout(&model);
+        if !layouts.contains(&layout) {
+            layouts.push(layout);
+        }
+        let end = layout.first + layout.words;
         let mut sc = scenario(40, 150, 21);
         sc.states[7].rolling_spring.x = f64::NAN;
         sc.states[30].twisting_angle = f64::INFINITY;
-        if words < 13 {
-            sc.states[60].twisting_offaxis.y = f64::NAN;
-        }
         for s in sc.states.iter_mut() {
-            if words < 13 {
+            if end < 13 {
                 s.twisting_offaxis = rsl_vec3::default();
             }
-            if words < 10 {
+            if end < 10 {
                 s.previous_normal = rsl_vec3::default();
+            }
+            if layout.first > 0 {
+                s.sliding_spring = rsl_vec3::default();
             }
         }
         for config in configs() {
@@ -911,12 +925,15 @@ fn packed_histories_step_as_full_states() {
                 sliding: ModelSliding,
             };
             let (full, full_scene) = run_step(&model, dt, &mut access, config).unwrap();
-            let packed = match words {
-                7 => step_packed::<7>(&model, dt, &sc, config),
-                10 => step_packed::<10>(&model, dt, &sc, config),
-                _ => step_packed::<13>(&model, dt, &sc, config),
+            let packed = match (layout.first, end) {
+                (0, 7) => step_packed::<7, 0>(&model, dt, &sc, config),
+                (0, 10) => step_packed::<10, 0>(&model, dt, &sc, config),
+                (0, _) => step_packed::<13, 0>(&model, dt, &sc, config),
+                (_, 7) => step_packed::<4, 3>(&model, dt, &sc, config),
+                (_, 10) => step_packed::<7, 3>(&model, dt, &sc, config),
+                _ => step_packed::<10, 3>(&model, dt, &sc, config),
             };
-            let what = format!("{scene:?} {config:?}");
+            let what = format!("{scene:?} {layout:?} {config:?}");
             assert_eq!(
                 format!("{:?}", packed.report),
                 format!("{full:?}"),
@@ -932,9 +949,10 @@ fn packed_histories_step_as_full_states() {
             assert_eq!(bits(&packed.force), bits(&force), "{what}: forces");
             assert_eq!(bits(&packed.torque), bits(&torque), "{what}: torques");
             for (c, record) in packed.records.iter().enumerate() {
-                let mut expected = vec![0.0; words];
+                let mut expected = vec![0.0; layout.words];
                 assert!(words_from_state(
                     &ContactState::from(&states[c]),
+                    layout,
                     &mut expected
                 ));
                 let b = |r: &[f64]| r.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
@@ -942,11 +960,8 @@ fn packed_histories_step_as_full_states() {
             }
         }
     }
-    assert_eq!(
-        layouts.into_iter().collect::<Vec<_>>(),
-        [7, 10, 13],
-        "every record size is tested"
-    );
+    layouts.sort_by_key(|l| (l.first, l.words));
+    assert_eq!(layouts, HistoryLayout::ALL, "every record layout is tested");
 }
 
 /// What [`step_packed`] returns.
@@ -958,15 +973,15 @@ struct Packed {
     records: Vec<Vec<f64>>,
 }
 
-/// Steps `sc` with its states packed into `W`-word records.
-fn step_packed<const W: usize>(
+/// Steps `sc` with its states packed into `W`-word records from full-layout word `F`.
+fn step_packed<const W: usize, const F: usize>(
     model: &Model,
     dt: f64,
     sc: &Scenario,
     config: BatchConfig,
 ) -> Packed {
     let np = sc.particles.len();
-    let mut records: Vec<Record<W>> = sc
+    let mut records: Vec<Record<W, F>> = sc
         .states
         .iter()
         .map(|s| Record::from_state(&ContactState::from(s)))

@@ -6,14 +6,17 @@
 //! contact whatever the laws. A model whose transports do not read the previous normal
 //! (project-rescale, project, none: the LAMMPS and LIGGGHTS presets) needs only the three
 //! springs, 7 doubles; one whose transports do (exact, first order) needs the previous normal
-//! too, 10; YADE's vector twisting moment needs its off-axis part as well, 13. The words left
-//! out are ones the step never reads, so stepping a record gives the same loads, and the same
-//! values of the words it keeps, as stepping the full state with those words zero.
+//! too, 10; YADE's vector twisting moment needs its off-axis part as well, 13. Without a
+//! sliding law the sliding spring is left out too (4, 7 or 10 doubles). The words left out are
+//! ones the step never reads, so stepping a record gives the same loads, and the same values of
+//! the words it keeps, as stepping the full state with those words zero.
 //!
-//! Record layout, in doubles: sliding spring (3), rolling spring (3), twisting angle, then
-//! with 10 or 13 words the previous normal (3), then with 13 the twisting off-axis part (3).
+//! Record layout: the *full layout* is, in doubles, the sliding spring (3), the rolling spring
+//! (3), the twisting angle, the previous normal (3), the twisting off-axis part (3); a record is
+//! the run of it from word [`HistoryLayout::first`] (0, or `NO_SLIDING` = 3 without a sliding
+//! law) to word 7, 10 or 13.
 
-use crate::laws::model::{Model, Transport};
+use crate::laws::model::{Model, SlidingLaw, Transport};
 use crate::laws::step::ContactState;
 use crate::scalar::Vec3;
 
@@ -23,22 +26,67 @@ pub(crate) const SPRINGS_ONLY: usize = 7;
 pub(crate) const WITH_NORMAL: usize = 10;
 /// Words of a record with the previous normal and YADE's off-axis twisting moment.
 pub(crate) const WITH_OFFAXIS: usize = 13;
+/// First word (in the full layout) of the record of a model without a sliding law: the
+/// sliding spring's three words are left out.
+pub(crate) const NO_SLIDING: usize = 3;
 
-/// Doubles per contact of `model`'s packed history: `SPRINGS_ONLY` (7) when neither
-/// transport reads the previous normal, `WITH_NORMAL` (10) when one does,
-/// `WITH_OFFAXIS` (13) for a preset that keeps the twisting moment as a vector (YADE).
-pub fn history_words(model: &Model) -> usize {
+/// Where a model's packed history sits in the full layout (see the module's doc): its words
+/// `first..first + words`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HistoryLayout {
+    /// The first word kept: 0, or `NO_SLIDING` (3) when the model has no sliding law.
+    pub first: usize,
+    /// Doubles per record: 7, 10 or 13 from word 0; 4, 7 or 10 from word 3.
+    pub words: usize,
+}
+
+impl HistoryLayout {
+    /// The layouts a model can have, in the order of [`history_layout`]'s rules.
+    pub const ALL: [HistoryLayout; 6] = [
+        HistoryLayout::new(0, SPRINGS_ONLY),
+        HistoryLayout::new(0, WITH_NORMAL),
+        HistoryLayout::new(0, WITH_OFFAXIS),
+        HistoryLayout::new(NO_SLIDING, SPRINGS_ONLY - NO_SLIDING),
+        HistoryLayout::new(NO_SLIDING, WITH_NORMAL - NO_SLIDING),
+        HistoryLayout::new(NO_SLIDING, WITH_OFFAXIS - NO_SLIDING),
+    ];
+
+    const fn new(first: usize, words: usize) -> HistoryLayout {
+        HistoryLayout { first, words }
+    }
+}
+
+/// The packed history of `model`: from word 0, or from word `NO_SLIDING` when the sliding
+/// law is off (the step neither reads nor writes the sliding spring then), to word
+/// `SPRINGS_ONLY` (7) when neither transport reads the previous normal, `WITH_NORMAL` (10)
+/// when one does, `WITH_OFFAXIS` (13) for a preset that keeps the twisting moment as a vector
+/// (YADE).
+pub fn history_layout(model: &Model) -> HistoryLayout {
     let reads_normal = |t: Transport| matches!(t, Transport::Exact | Transport::FirstOrder);
-    if model.preset.conventions().twist_vector {
+    let end = if model.preset.conventions().twist_vector {
         WITH_OFFAXIS
     } else if reads_normal(model.sliding_transport) || reads_normal(model.rolling_transport) {
         WITH_NORMAL
     } else {
         SPRINGS_ONLY
+    };
+    let first = if model.sliding.law == SlidingLaw::None {
+        NO_SLIDING
+    } else {
+        0
+    };
+    HistoryLayout {
+        first,
+        words: end - first,
     }
 }
 
-/// Word `q` of a record, read from `s`.
+/// Doubles per contact of `model`'s packed history (`history_layout(model).words`).
+pub fn history_words(model: &Model) -> usize {
+    history_layout(model).words
+}
+
+/// Word `q` of the full layout (see the module's doc), read from `s`.
 pub fn record_word(s: &ContactState<f64>, q: usize) -> f64 {
     let v = |v: &Vec3<f64>, i: usize| v[i];
     match q {
@@ -50,13 +98,18 @@ pub fn record_word(s: &ContactState<f64>, q: usize) -> f64 {
     }
 }
 
-/// The state of a packed record `words` (7, 10 or 13 doubles; the fields it does not keep are
-/// zero). `None` for another length.
-pub fn state_from_words(words: &[f64]) -> Option<ContactState<f64>> {
-    if ![SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS].contains(&words.len()) {
+/// The state of a packed record `words` of `layout` (the fields it does not keep are zero).
+/// `None` when `words` is not `layout.words` long or `layout` is none of [`HistoryLayout::ALL`].
+pub fn state_from_words(layout: HistoryLayout, words: &[f64]) -> Option<ContactState<f64>> {
+    if !HistoryLayout::ALL.contains(&layout) || words.len() != layout.words {
         return None;
     }
-    let w = |q: usize| words.get(q).copied().unwrap_or(0.0);
+    let w = |q: usize| {
+        q.checked_sub(layout.first)
+            .and_then(|i| words.get(i))
+            .copied()
+            .unwrap_or(0.0)
+    };
     let v = |q: usize| Vec3::new(w(q), w(q + 1), w(q + 2));
     Some(ContactState {
         sliding_spring: v(0),
@@ -67,14 +120,18 @@ pub fn state_from_words(words: &[f64]) -> Option<ContactState<f64>> {
     })
 }
 
-/// Writes the packed record of `state` into `words` (7, 10 or 13 doubles); false (nothing
-/// written) for another length.
-pub fn words_from_state(state: &ContactState<f64>, words: &mut [f64]) -> bool {
-    if ![SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS].contains(&words.len()) {
+/// Writes the packed record of `state` in `layout` into `words`; false (nothing written) when
+/// `words` is not `layout.words` long or `layout` is none of [`HistoryLayout::ALL`].
+pub fn words_from_state(
+    state: &ContactState<f64>,
+    layout: HistoryLayout,
+    words: &mut [f64],
+) -> bool {
+    if !HistoryLayout::ALL.contains(&layout) || words.len() != layout.words {
         return false;
     }
-    for (q, w) in words.iter_mut().enumerate() {
-        *w = record_word(state, q);
+    for (i, w) in words.iter_mut().enumerate() {
+        *w = record_word(state, layout.first + i);
     }
     true
 }
@@ -97,42 +154,69 @@ mod tests {
     #[test]
     fn records_keep_springs_then_normal_then_offaxis() {
         let s = state();
-        let record = |n: usize| {
-            let mut words = vec![0.0; n];
-            assert!(words_from_state(&s, &mut words));
-            words
+        let record = |first: usize, words: usize| {
+            let layout = HistoryLayout { first, words };
+            let mut record = vec![0.0; words];
+            assert!(words_from_state(&s, layout, &mut record));
+            record
         };
-        assert_eq!(record(7), [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        assert_eq!(record(0, 7), [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
         assert_eq!(
-            record(13),
+            record(0, 13),
             [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 11.0, 12.0, 13.0, 8.0, 9.0, 10.0]
         );
-        assert_eq!(state_from_words(&record(13)), Some(s));
-        let back = state_from_words(&record(10)).unwrap();
+        assert_eq!(record(3, 4), [4.0, 5.0, 6.0, 7.0]);
+        assert_eq!(
+            record(3, 10),
+            [4.0, 5.0, 6.0, 7.0, 11.0, 12.0, 13.0, 8.0, 9.0, 10.0]
+        );
+        let layout = |first: usize, words: usize| HistoryLayout { first, words };
+        assert_eq!(state_from_words(layout(0, 13), &record(0, 13)), Some(s));
+        let back = state_from_words(layout(0, 10), &record(0, 10)).unwrap();
         assert_eq!(back.previous_normal, s.previous_normal);
         assert_eq!(back.twisting_offaxis, Vec3::zeros());
-        assert_eq!(record(10)[..7], record(7)[..]);
-        assert!(!words_from_state(&s, &mut [0.0; 8]));
-        assert_eq!(state_from_words(&[0.0; 12]), None);
+        assert_eq!(record(0, 10)[..7], record(0, 7)[..]);
+        let back = state_from_words(layout(3, 7), &record(3, 7)).unwrap();
+        assert_eq!(back.sliding_spring, Vec3::zeros());
+        assert_eq!(back.rolling_spring, s.rolling_spring);
+        assert_eq!(back.twisting_angle, 7.0);
+        assert_eq!(back.previous_normal, s.previous_normal);
+        assert_eq!(back.twisting_offaxis, Vec3::zeros());
+        // A length or layout that is not a model's is refused.
+        assert!(!words_from_state(&s, layout(0, 8), &mut [0.0; 8]));
+        assert!(!words_from_state(&s, layout(0, 7), &mut [0.0; 4]));
+        assert!(!words_from_state(&s, layout(1, 6), &mut [0.0; 6]));
+        assert_eq!(state_from_words(layout(0, 12), &[0.0; 12]), None);
+        assert_eq!(state_from_words(layout(3, 4), &[0.0; 7]), None);
     }
 
     #[test]
-    fn history_words_follow_the_transports_and_the_preset() {
-        assert_eq!(history_words(&Model::default()), WITH_NORMAL);
+    fn history_layouts_follow_the_transports_the_preset_and_the_sliding_law() {
+        let with_sliding = |mut m: Model| {
+            m.sliding.law = SlidingLaw::Linear;
+            m
+        };
+        let layout = |first: usize, words: usize| HistoryLayout { first, words };
+        let objective = Model::default();
         assert_eq!(
-            history_words(&Model::with_preset(Preset::Lammps2021)),
-            SPRINGS_ONLY
+            history_layout(&with_sliding(objective)),
+            layout(0, WITH_NORMAL)
         );
-        assert_eq!(
-            history_words(&Model::with_preset(Preset::Liggghts38)),
-            SPRINGS_ONLY
-        );
-        assert_eq!(
-            history_words(&Model::with_preset(Preset::Yade2023)),
-            WITH_OFFAXIS
-        );
-        let mut m = Model::with_preset(Preset::Lammps2021);
+        assert_eq!(history_layout(&objective), layout(NO_SLIDING, 7));
+        for (preset, end) in [
+            (Preset::Lammps2021, SPRINGS_ONLY),
+            (Preset::Liggghts38, SPRINGS_ONLY),
+            (Preset::Yade2023, WITH_OFFAXIS),
+        ] {
+            let m = Model::with_preset(preset);
+            assert_eq!(history_layout(&with_sliding(m)), layout(0, end));
+            assert_eq!(history_layout(&m), layout(NO_SLIDING, end - NO_SLIDING));
+            assert_eq!(history_words(&m), end - NO_SLIDING);
+        }
+        let mut m = with_sliding(Model::with_preset(Preset::Lammps2021));
         m.rolling_transport = Transport::Exact;
-        assert_eq!(history_words(&m), WITH_NORMAL);
+        assert_eq!(history_layout(&m), layout(0, WITH_NORMAL));
+        m.sliding.law = SlidingLaw::None;
+        assert_eq!(history_layout(&m), layout(NO_SLIDING, 7));
     }
 }

@@ -26,8 +26,8 @@ use super::transpose::{Avx2Copy, Avx512Copy};
 use super::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use super::{guard, optional_input, output};
 use crate::batch::history::{
-    history_words, state_from_words as history_state_from_words, words_from_state, SPRINGS_ONLY,
-    WITH_NORMAL, WITH_OFFAXIS,
+    history_layout, history_words, state_from_words as history_state_from_words, words_from_state,
+    HistoryLayout, NO_SLIDING, SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS,
 };
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
@@ -741,22 +741,25 @@ pub fn run_step<A: CAccess>(
     Ok((report, scene))
 }
 
-/// As [`run_step`] for packed histories of `W` doubles ([`Record`]), which must be the model's
-/// [`history_words`] (checked). Only the scenes whose models have `W`-word histories get a
-/// specialised kernel: the LAMMPS scenes for 7 words, the objective exact-transport scenes for
-/// 10, none for 13 (the YADE preset runs the generic kernel).
-pub fn run_history_step<const W: usize, V: AddSlot>(
+/// As [`run_step`] for packed histories of `W` doubles from full-layout word `F` ([`Record`]),
+/// which must be the model's [`history_layout`] (checked). Only the scenes whose models have
+/// that layout get a specialised kernel: the LAMMPS scenes with a sliding law for 7 words from
+/// word 0, the objective exact-transport ones for 10; without a sliding law, rolling + twisting
+/// LAMMPS for 4 words from word 3, rolling + twisting exact for 7; none for the YADE preset's
+/// layouts (13 words, or 10 from word 3), which run the generic kernel.
+pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
     model: &Model,
     dt: f64,
-    access: &mut ParticleSteps<'_, rsl_sphere, &mut [Record<W>], V>,
+    access: &mut ParticleSteps<'_, rsl_sphere, &mut [Record<W, F>], V>,
     config: BatchConfig,
 ) -> Result<(BatchReport, Scene), Error> {
     check_batch_model(model)?;
     check_time_step(dt)?;
-    if history_words(model) != W {
+    let layout = history_layout(model);
+    if layout != (HistoryLayout { first: F, words: W }) {
         return Err(Error::InvalidArgument(format!(
-            "the model's history has {} words, not {W}",
-            history_words(model)
+            "the model's history has {} words from word {}, not {W} from {F}",
+            layout.words, layout.first
         )));
     }
     let scene = batch_scene(model, config.specialise);
@@ -765,28 +768,32 @@ pub fn run_history_step<const W: usize, V: AddSlot>(
             "SIMD level not supported by this CPU".to_string(),
         ));
     }
-    let report = match W {
-        SPRINGS_ONLY => by_kernel!(
+    let report = match (F, F + W) {
+        (0, SPRINGS_ONLY) => by_kernel!(
             config,
             scene,
-            [
-                FullLammps,
-                SlidingLammps,
-                RollingTwistingLammps,
-                SlidingRollingLammps
-            ],
+            [FullLammps, SlidingLammps, SlidingRollingLammps],
             access,
             (model, dt, access)
         ),
-        WITH_NORMAL => by_kernel!(
+        (0, WITH_NORMAL) => by_kernel!(
             config,
             scene,
-            [
-                FullExact,
-                SlidingExact,
-                SlidingRollingExact,
-                RollingTwistingExact
-            ],
+            [FullExact, SlidingExact, SlidingRollingExact],
+            access,
+            (model, dt, access)
+        ),
+        (NO_SLIDING, SPRINGS_ONLY) => by_kernel!(
+            config,
+            scene,
+            [RollingTwistingLammps],
+            access,
+            (model, dt, access)
+        ),
+        (NO_SLIDING, WITH_NORMAL) => by_kernel!(
+            config,
+            scene,
+            [RollingTwistingExact],
             access,
             (model, dt, access)
         ),
@@ -1328,15 +1335,18 @@ pub unsafe extern "C" fn rsl_batch_step_indexed(
     }
 }
 
-/// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`: 7 when
-/// neither transport reads the previous normal (`RSL_TRANSPORT_PROJECT_RESCALE`,
-/// `RSL_TRANSPORT_PROJECT`, `RSL_TRANSPORT_NONE`: the LAMMPS_2021 and LIGGGHTS_3_8 presets),
-/// 10 when one does (`RSL_TRANSPORT_EXACT`, `RSL_TRANSPORT_FIRST_ORDER`: the objective
-/// default), 13 with the YADE_2023 preset (which keeps its twisting moment as a vector). The
-/// record holds, in this order: the sliding spring (3), the rolling spring (3), the twisting
-/// angle, then with 10 or 13 words the previous normal (3), then with 13 the twisting off-axis
-/// part (3): the fields of `rsl_contact_state` with the same meaning, those the model's step
-/// reads. The size follows the model's preset and transports: changing them may change it.
+/// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`. The record
+/// holds the fields of `rsl_contact_state` the model's step reads, in this order: the sliding
+/// spring (3; left out when the model has no sliding law, `RSL_SLIDING_NONE`), the rolling
+/// spring (3), the twisting angle (1), the previous normal (3; kept when a transport reads it:
+/// `RSL_TRANSPORT_EXACT` or `RSL_TRANSPORT_FIRST_ORDER`, as in the objective default; not with
+/// `RSL_TRANSPORT_PROJECT_RESCALE`, `RSL_TRANSPORT_PROJECT` or `RSL_TRANSPORT_NONE`, as in the
+/// LAMMPS_2021 and LIGGGHTS_3_8 presets), the twisting off-axis part (3; the YADE_2023 preset
+/// only, which keeps its twisting moment as a vector). So, with a sliding law: 7 words for the
+/// LAMMPS and LIGGGHTS presets, 10 for the objective one, 13 for YADE; without one, 4, 7 and
+/// 10. The size follows the model's sliding law, preset and transports: ask for it after the
+/// model's last change, and repack (`rsl_history_to_state`, then `rsl_history_from_state`
+/// with the new model) if one of these changes.
 /// Writes `*words` on success.
 ///
 /// # Safety
@@ -1368,17 +1378,17 @@ pub unsafe extern "C" fn rsl_history_from_state(
     guard(|| {
         // SAFETY: forwarded contract; helpers check NULL, alignment and size.
         let (m, state) = unsafe { (live_model(model)?, slice_in(state, 1, "state")?) };
-        let n = history_words(&m.model);
-        // SAFETY: as above: `history` holds the record's `n` doubles.
-        let out = unsafe { slice_out(history, n, "history")? };
-        words_from_state(&ContactState::from(&state[0]), out);
+        let layout = history_layout(&m.model);
+        // SAFETY: as above: `history` holds the record's `layout.words` doubles.
+        let out = unsafe { slice_out(history, layout.words, "history")? };
+        words_from_state(&ContactState::from(&state[0]), layout, out);
         Ok(())
     })
 }
 
 /// Unpacks `model`'s history record (`rsl_model_history_size` doubles) into `state`: the
-/// record's fields are copied, the others (the previous normal and the twisting off-axis part
-/// when the record does not keep them, the slip flags) are set to zero.
+/// record's fields are copied, the others (the sliding spring, the previous normal and the
+/// twisting off-axis part when the record does not keep them, the slip flags) are set to zero.
 ///
 /// # Safety
 /// `model` must be a live model; `history` readable for the record's doubles; `state` NULL or
@@ -1392,12 +1402,17 @@ pub unsafe extern "C" fn rsl_history_to_state(
     guard(|| {
         // SAFETY: forwarded contract; helpers check NULL, alignment and size.
         let m = unsafe { live_model(model)? };
-        let n = history_words(&m.model);
+        let layout = history_layout(&m.model);
         // SAFETY: as above.
-        let (words, out) = unsafe { (slice_in(history, n, "history")?, output(state, "state")?) };
-        let s = history_state_from_words(words).ok_or(FfiError::Core(Error::InvalidArgument(
-            "a history record of an unknown size".to_string(),
-        )))?;
+        let (words, out) = unsafe {
+            (
+                slice_in(history, layout.words, "history")?,
+                output(state, "state")?,
+            )
+        };
+        let s = history_state_from_words(layout, words).ok_or(FfiError::Core(
+            Error::InvalidArgument("a history record of an unknown size".to_string()),
+        ))?;
         *out = rsl_contact_state::default();
         StateSlot::store(out, &s, 0);
         Ok(())
@@ -1409,8 +1424,8 @@ pub unsafe extern "C" fn rsl_history_to_state(
 /// `history + c * size` (see `rsl_model_history_size` for its layout; `rsl_history_from_state`
 /// packs a `rsl_contact_state`). The records keep only what the step reads, so there is less
 /// memory to move: for the LAMMPS_2021 preset 56 bytes per contact instead of the 112 of a
-/// `rsl_contact_state` (up to 7% less time per contact on the benchmark's host:
-/// docs/performance.md).
+/// `rsl_contact_state` (up to 7% less time per contact on the benchmark's host), 32 without a
+/// sliding law (another 5% less for rolling + twisting: docs/performance.md).
 /// Slip flags are not kept. Everything else (physics, validation, skipping, report, the order
 /// of the additions) is that of `rsl_batch_step`, whose loads and new histories this call
 /// reproduces bit for bit in double precision (with the state's other fields zero).
@@ -1466,9 +1481,9 @@ pub unsafe extern "C" fn rsl_batch_step_history(
         match result {
             Err(e) => refuse(report, e),
             Ok((a, history)) => {
-                /// Steps the records as `W`-word records.
+                /// Steps the records as `W`-word records from full-layout word `F`.
                 #[allow(clippy::too_many_arguments)]
-                fn run<const W: usize>(
+                fn run<const W: usize, const F: usize>(
                     model: &Model,
                     dt: f64,
                     particles: &[rsl_sphere],
@@ -1482,10 +1497,10 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                 ) -> Result<(BatchReport, Scene), Error> {
                     let (records, rest) = history.as_chunks_mut::<W>();
                     debug_assert!(rest.is_empty(), "whole records");
-                    // SAFETY: `Record<W>` is `repr(transparent)` over `[f64; W]`.
+                    // SAFETY: `Record<W, F>` is `repr(transparent)` over `[f64; W]`.
                     let states = unsafe {
                         std::slice::from_raw_parts_mut(
-                            records.as_mut_ptr().cast::<Record<W>>(),
+                            records.as_mut_ptr().cast::<Record<W, F>>(),
                             records.len(),
                         )
                     };
@@ -1505,10 +1520,23 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                 let (model, config) = (&a.model.model, a.config);
                 let (p, q, f, k) = (a.particles, a.pairs, a.normal_force, a.normal_stiffness);
                 let (h, fo, t) = (history, a.force, a.torque);
-                let result = match history_words(model) {
-                    SPRINGS_ONLY => run::<SPRINGS_ONLY>(model, dt, p, q, f, k, h, fo, t, config),
-                    WITH_NORMAL => run::<WITH_NORMAL>(model, dt, p, q, f, k, h, fo, t, config),
-                    _ => run::<WITH_OFFAXIS>(model, dt, p, q, f, k, h, fo, t, config),
+                const N: usize = NO_SLIDING;
+                let layout = history_layout(model);
+                let result = match (layout.first, layout.first + layout.words) {
+                    (0, SPRINGS_ONLY) => {
+                        run::<SPRINGS_ONLY, 0>(model, dt, p, q, f, k, h, fo, t, config)
+                    }
+                    (0, WITH_NORMAL) => {
+                        run::<WITH_NORMAL, 0>(model, dt, p, q, f, k, h, fo, t, config)
+                    }
+                    (0, _) => run::<WITH_OFFAXIS, 0>(model, dt, p, q, f, k, h, fo, t, config),
+                    (_, SPRINGS_ONLY) => {
+                        run::<{ SPRINGS_ONLY - N }, N>(model, dt, p, q, f, k, h, fo, t, config)
+                    }
+                    (_, WITH_NORMAL) => {
+                        run::<{ WITH_NORMAL - N }, N>(model, dt, p, q, f, k, h, fo, t, config)
+                    }
+                    _ => run::<{ WITH_OFFAXIS - N }, N>(model, dt, p, q, f, k, h, fo, t, config),
                 };
                 finish(report, result.map(|(b, s)| (b, s as u32, config.simd)))
             }

@@ -663,61 +663,74 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
     }
 }
 
-/// Packed histories ([`Record`]) in windows of four words, each moved by a 4 x 4 AVX2
-/// transposition (AVX-512 CPUs have AVX2): record words 0..4 and 3..7 are the springs (rows
-/// 0..7), words 6..10 the twisting angle again and the previous normal (rows 6, 10, 11, 12),
-/// words 9..13 the previous normal's last word again and the off-axis part (rows 12, 7, 8, 9).
-/// A word in two windows is moved twice with the same value.
+/// Packed histories ([`Record`]) in windows of four words of the full layout, each moved by a
+/// 4 x 4 AVX2 transposition (AVX-512 CPUs have AVX2): full-layout words 0..4 and 3..7 are the
+/// springs (rows 0..7), words 6..10 the twisting angle again and the previous normal (rows 6,
+/// 10, 11, 12), words 9..13 the previous normal's last word again and the off-axis part (rows
+/// 12, 7, 8, 9). A word in two windows is moved twice with the same value. A record without the
+/// sliding spring (`F` = 3) skips the first window, and its rows (the sliding spring's) are
+/// zero, as in a state whose sliding spring is zero.
 ///
 /// # Safety
 /// The CPU must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-unsafe fn records_to_rows<const W: usize>(
-    records: [&Record<W>; GROUP],
+unsafe fn records_to_rows<const W: usize, const F: usize>(
+    records: [&Record<W, F>; GROUP],
     rows: [&mut GroupRow; STATE_WORDS],
 ) {
+    const { assert!((F == 0 || F == 3) && matches!(F + W, 7 | 10 | 13)) };
     let src = records.map(|r| r.0.as_ptr());
     let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
-    // SAFETY: each pointer comes from a whole record of `W` doubles, and every window read
-    // (words 0..4, 3..7, then 6..10 when `W >= 10`, 9..13 when `W = 13`) is inside it; the CPU
-    // has AVX2 (the caller's contract).
+    // SAFETY: each pointer comes from a whole record of `W` doubles, full-layout words
+    // `F..F + W`, and every window read (full-layout words 0..4 when `F = 0`, 3..7, then 6..10
+    // when `F + W >= 10`, 9..13 when `F + W = 13`, at record word `at - F`) is inside it (the
+    // const assertion above); the CPU has AVX2 (the caller's contract).
     unsafe {
-        avx2::words_to_rows(src, 0, [r0, r1, r2, &mut *r3]);
-        avx2::words_to_rows(src, 3, [r3, r4, r5, &mut *r6]);
-        if W >= 10 {
-            avx2::words_to_rows(src, 6, [r6, r10, r11, &mut *r12]);
+        if F == 0 {
+            avx2::words_to_rows(src, 0, [r0, r1, r2, &mut *r3]);
+        } else {
+            for row in [r0, r1, r2] {
+                *row = [0.0; GROUP];
+            }
         }
-        if W >= 13 {
-            avx2::words_to_rows(src, 9, [r12, r7, r8, r9]);
+        avx2::words_to_rows(src, 3 - F, [r3, r4, r5, &mut *r6]);
+        if F + W >= 10 {
+            avx2::words_to_rows(src, 6 - F, [r6, r10, r11, &mut *r12]);
+        }
+        if F + W >= 13 {
+            avx2::words_to_rows(src, 9 - F, [r12, r7, r8, r9]);
         }
     }
 }
 
 /// The inverse of [`records_to_rows`]: the record words from the rows (slip flags are not
-/// kept in a record).
+/// kept in a record, nor the sliding spring's rows when `F` = 3).
 ///
 /// # Safety
 /// The CPU must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-unsafe fn rows_to_records<const W: usize>(
+unsafe fn rows_to_records<const W: usize, const F: usize>(
     rows: [&GroupRow; STATE_WORDS],
-    records: &mut [Record<W>; GROUP],
+    records: &mut [Record<W, F>; GROUP],
 ) {
+    const { assert!((F == 0 || F == 3) && matches!(F + W, 7 | 10 | 13)) };
     let dst = records.each_mut().map(|r| r.0.as_mut_ptr());
     let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12] = rows;
     // SAFETY: each pointer comes from a distinct `&mut` record of `W` doubles (so they do not
     // overlap each other or the rows), and every window written is inside it (as in
     // `records_to_rows`); the CPU has AVX2 (the caller's contract).
     unsafe {
-        avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
-        avx2::rows_to_words([r3, r4, r5, r6], dst, 3);
-        if W >= 10 {
-            avx2::rows_to_words([r6, r10, r11, r12], dst, 6);
+        if F == 0 {
+            avx2::rows_to_words([r0, r1, r2, r3], dst, 0);
         }
-        if W >= 13 {
-            avx2::rows_to_words([r12, r7, r8, r9], dst, 9);
+        avx2::rows_to_words([r3, r4, r5, r6], dst, 3 - F);
+        if F + W >= 10 {
+            avx2::rows_to_words([r6, r10, r11, r12], dst, 6 - F);
+        }
+        if F + W >= 13 {
+            avx2::rows_to_words([r12, r7, r8, r9], dst, 9 - F);
         }
     }
 }
@@ -725,7 +738,7 @@ unsafe fn rows_to_records<const W: usize>(
 macro_rules! record_copy {
     ($copy:ty) => {
         #[cfg(target_arch = "x86_64")]
-        impl<const W: usize> GroupCopy<rsl_sphere, Record<W>> for $copy {
+        impl<const W: usize, const F: usize> GroupCopy<rsl_sphere, Record<W, F>> for $copy {
             #[inline(always)]
             fn bodies(self, bodies: [&rsl_sphere; GROUP], rows: [&mut GroupRow; BODY_WORDS]) {
                 GroupCopy::<rsl_sphere, rsl_contact_state>::bodies(self, bodies, rows)
@@ -745,7 +758,7 @@ macro_rules! record_copy {
             }
 
             #[inline(always)]
-            fn states(self, states: [&Record<W>; GROUP], rows: [&mut GroupRow; STATE_WORDS]) {
+            fn states(self, states: [&Record<W, F>; GROUP], rows: [&mut GroupRow; STATE_WORDS]) {
                 // SAFETY: an `Avx2Copy` exists only on a CPU with AVX2 and an `Avx512Copy` only
                 // on one with AVX-512 F and DQ (their `assume`); the batch dispatch runs the
                 // AVX-512 kernels only where AVX2 is present too (`Simd::available`).
@@ -757,7 +770,7 @@ macro_rules! record_copy {
                 self,
                 rows: [&GroupRow; STATE_WORDS],
                 _slip: &[u32; GROUP],
-                states: &mut [Record<W>; GROUP],
+                states: &mut [Record<W, F>; GROUP],
             ) {
                 // SAFETY: as in `states`.
                 unsafe { rows_to_records(rows, states) }
