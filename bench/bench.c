@@ -115,7 +115,8 @@
  *                   baseline_c[noslip]
  *   batch_f64_<l>[SCENE]  workload A only: rsl_batch_step of the other scenes at each level,
  *                   f64: full/exact, slide+roll/exact, generic(full/lammps),
- *                   slide+roll/lammps, generic(slide+roll/lammps) (group full),
+ *                   slide+roll/lammps, generic(slide+roll/lammps), full/lammps+marshall
+ *                   (twisting marshall), generic(full/lammps+marshall) (group full),
  *                   roll+twist/exact, generic(rolltwist) (group rolltwist), sliding/exact,
  *                   generic(sliding) (group sliding), and generic(S) for each exact scene S.
  *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
@@ -1110,6 +1111,7 @@ static void check(int32_t status, const char *what) {
 
 /* A model of `preset` with linear sliding (KT, GT, MU) or none, EPSD rolling (given KR, GR,
  * MUR) or none, sds twisting (KTW, GTW, MUTW) or none. */
+/* twisting: 0 none, 1 sds, 2 marshall (its coefficients derived from the sliding ones). */
 static rsl_model *make_model(int32_t preset, int sliding, int rolling, int twisting) {
     rsl_model *m = NULL;
     check(rsl_model_new(preset, &m), "rsl_model_new");
@@ -1129,7 +1131,8 @@ static rsl_model *make_model(int32_t preset, int sliding, int rolling, int twist
     }
     check(rsl_model_set_rolling(m, &rp), "rsl_model_set_rolling");
     if (twisting)
-        check(rsl_model_set_twisting(m, RSL_TWISTING_SDS, KTW, GTW, MUTW),
+        check(rsl_model_set_twisting(m, twisting == 2 ? RSL_TWISTING_MARSHALL : RSL_TWISTING_SDS,
+                                     KTW, GTW, MUTW),
               "rsl_model_set_twisting");
     else
         check(rsl_model_set_twisting(m, RSL_TWISTING_NONE, 0, 0, 0),
@@ -1213,7 +1216,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 13 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 15 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1230,7 +1233,8 @@ int main(int argc, char **argv) {
               *slide_roll_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 1, 0),
               *roll_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 1, 1),
               *sliding_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 0),
-              *slide_roll_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 0);
+              *slide_roll_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 0),
+              *full_lammps_marshall = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 2);
     /* other scenes (workload A), each in the group whose floor and baseline it is set against;
      * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
@@ -1246,6 +1250,8 @@ int main(int argc, char **argv) {
         {"generic(full/lammps)", set_model[FULL], RSL_BATCH_GENERIC, FULL},
         {"slide+roll/lammps", slide_roll_lammps, 0, FULL},
         {"generic(slide+roll/lammps)", slide_roll_lammps, RSL_BATCH_GENERIC, FULL},
+        {"full/lammps+marshall", full_lammps_marshall, 0, FULL},
+        {"generic(full/lammps+marshall)", full_lammps_marshall, RSL_BATCH_GENERIC, FULL},
         {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
         {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},

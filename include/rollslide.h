@@ -80,6 +80,10 @@
 // Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
 #define RSL_SCENE_SLIDING_ROLLING_LAMMPS 8
 
+// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall
+// (`RSL_TWISTING_MARSHALL`).
+#define RSL_SCENE_FULL_LAMMPS_MARSHALL 9
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

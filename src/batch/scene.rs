@@ -34,11 +34,14 @@ pub enum Scene {
     RollingTwistingExact = 7,
     /// LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
     SlidingRollingLammps = 8,
+    /// LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall (the
+    /// twisting coefficients derived from the sliding ones and the contact radius).
+    FullLammpsMarshall = 9,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 9] = [
+    pub const ALL: [Scene; 10] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
@@ -48,6 +51,7 @@ impl Scene {
         Scene::RollingTwistingLammps,
         Scene::RollingTwistingExact,
         Scene::SlidingRollingLammps,
+        Scene::FullLammpsMarshall,
     ];
 
     /// A short name (benchmark tables).
@@ -62,6 +66,7 @@ impl Scene {
             Scene::RollingTwistingLammps => "roll+twist/lammps",
             Scene::RollingTwistingExact => "roll+twist/exact",
             Scene::SlidingRollingLammps => "slide+roll/lammps",
+            Scene::FullLammpsMarshall => "full/lammps+marshall",
         }
     }
 
@@ -78,6 +83,7 @@ impl Scene {
             6 => Scene::RollingTwistingLammps,
             7 => Scene::RollingTwistingExact,
             8 => Scene::SlidingRollingLammps,
+            9 => Scene::FullLammpsMarshall,
             _ => Scene::Generic,
         }
     }
@@ -100,16 +106,18 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
     let mut m = *model;
     let exact = (Transport::Exact, Preset::Objective);
     let lammps = (Transport::ProjectRescale, Preset::Lammps2021);
+    let sds = TwistingLaw::Sds;
     let (sliding, rolling, twisting, (transport, preset)) = match scene {
         Scene::Generic => return m,
-        Scene::FullExact => (true, true, true, exact),
-        Scene::FullLammps => (true, true, true, lammps),
-        Scene::SlidingExact => (true, false, false, exact),
-        Scene::SlidingRollingExact => (true, true, false, exact),
-        Scene::SlidingLammps => (true, false, false, lammps),
-        Scene::RollingTwistingLammps => (false, true, true, lammps),
-        Scene::RollingTwistingExact => (false, true, true, exact),
-        Scene::SlidingRollingLammps => (true, true, false, lammps),
+        Scene::FullExact => (true, true, sds, exact),
+        Scene::FullLammps => (true, true, sds, lammps),
+        Scene::SlidingExact => (true, false, TwistingLaw::None, exact),
+        Scene::SlidingRollingExact => (true, true, TwistingLaw::None, exact),
+        Scene::SlidingLammps => (true, false, TwistingLaw::None, lammps),
+        Scene::RollingTwistingLammps => (false, true, sds, lammps),
+        Scene::RollingTwistingExact => (false, true, sds, exact),
+        Scene::SlidingRollingLammps => (true, true, TwistingLaw::None, lammps),
+        Scene::FullLammpsMarshall => (true, true, TwistingLaw::Marshall, lammps),
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear
@@ -127,11 +135,7 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
         m.rolling.damping_rule = RollingDamping::Given;
         m.rolling.damping_mode = DampingMode::Always;
     }
-    m.twisting.law = if twisting {
-        TwistingLaw::Sds
-    } else {
-        TwistingLaw::None
-    };
+    m.twisting.law = twisting;
     m.sliding_transport = transport;
     m.rolling_transport = transport;
     m.preset = preset;

@@ -92,6 +92,9 @@ pub const RSL_SCENE_ROLLING_TWISTING_LAMMPS: u32 = 6;
 pub const RSL_SCENE_ROLLING_TWISTING_EXACT: u32 = 7;
 /// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
 pub const RSL_SCENE_SLIDING_ROLLING_LAMMPS: u32 = 8;
+/// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall
+/// (`RSL_TWISTING_MARSHALL`).
+pub const RSL_SCENE_FULL_LAMMPS_MARSHALL: u32 = 9;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -733,7 +736,8 @@ pub fn run_step<A: CAccess>(
             SlidingLammps,
             RollingTwistingLammps,
             RollingTwistingExact,
-            SlidingRollingLammps
+            SlidingRollingLammps,
+            FullLammpsMarshall
         ],
         access,
         (model, dt, access)
@@ -772,7 +776,12 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
         (0, SPRINGS_ONLY) => by_kernel!(
             config,
             scene,
-            [FullLammps, SlidingLammps, SlidingRollingLammps],
+            [
+                FullLammps,
+                SlidingLammps,
+                SlidingRollingLammps,
+                FullLammpsMarshall
+            ],
             access,
             (model, dt, access)
         ),
@@ -1832,6 +1841,7 @@ mod tests {
                 RSL_SCENE_SLIDING_ROLLING_LAMMPS,
                 Scene::SlidingRollingLammps,
             ),
+            (RSL_SCENE_FULL_LAMMPS_MARSHALL, Scene::FullLammpsMarshall),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());
         for (code, scene) in constants {

@@ -604,11 +604,12 @@ pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
     scene_steps(avx2)[scene as usize]
 }
 
-/// `[f::<0>, ..., f::<8>]`: a step function for each scene code.
+/// `[f::<0>, ..., f::<9>]`: a step function for each scene code.
 macro_rules! per_scene {
     ($f:ident) => {
         [
             $f::<0>, $f::<1>, $f::<2>, $f::<3>, $f::<4>, $f::<5>, $f::<6>, $f::<7>, $f::<8>,
+            $f::<9>,
         ]
     };
 }
@@ -1402,15 +1403,21 @@ pub(super) mod tests {
         exact.rolling_transport = Transport::Exact;
         let mut energy = exact;
         energy.track_energy = true;
-        let mut marshall = full;
+        // Marshall twisting: generic with the objective preset, a scene with LAMMPS'.
+        let mut marshall = exact;
         marshall.twisting.law = TwistingLaw::Marshall;
         let mut roll_twist = full;
         roll_twist.sliding.law = SlidingLaw::None;
-        let models = vec![full, exact, energy, marshall, roll_twist];
+        let mut lammps_marshall = full;
+        lammps_marshall.twisting.law = TwistingLaw::Marshall;
+        let models = vec![full, exact, energy, marshall, roll_twist, lammps_marshall];
         let scenes: Vec<Scene> = models.iter().map(Scene::classify).collect();
         assert_eq!(scenes[..2], [Scene::FullLammps, Scene::FullExact]);
         assert_eq!(scenes[2..4], [Scene::Generic, Scene::Generic]);
-        assert_eq!(scenes[4], Scene::RollingTwistingLammps);
+        assert_eq!(
+            scenes[4..],
+            [Scene::RollingTwistingLammps, Scene::FullLammpsMarshall]
+        );
         models
     }
 

@@ -44,6 +44,8 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     roll_twist.sliding.law = SlidingLaw::None;
     let mut slide_roll_lammps = lammps;
     slide_roll_lammps.twisting.law = TwistingLaw::None;
+    let mut lammps_marshall = lammps;
+    lammps_marshall.twisting.law = TwistingLaw::Marshall;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -53,6 +55,7 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (roll_twist_lammps, Scene::RollingTwistingLammps),
         (roll_twist, Scene::RollingTwistingExact),
         (slide_roll_lammps, Scene::SlidingRollingLammps),
+        (lammps_marshall, Scene::FullLammpsMarshall),
     ]
 }
 
