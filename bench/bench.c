@@ -1110,8 +1110,8 @@ static void check(int32_t status, const char *what) {
 }
 
 /* A model of `preset` with linear sliding (KT, GT, MU) or none, EPSD rolling (given KR, GR,
- * MUR) or none, sds twisting (KTW, GTW, MUTW) or none. */
-/* twisting: 0 none, 1 sds, 2 marshall (its coefficients derived from the sliding ones). */
+ * MUR) or none, and twisting 0 none, 1 sds (KTW, GTW, MUTW) or 2 marshall (its coefficients
+ * derived from the sliding ones). */
 static rsl_model *make_model(int32_t preset, int sliding, int rolling, int twisting) {
     rsl_model *m = NULL;
     check(rsl_model_new(preset, &m), "rsl_model_new");
