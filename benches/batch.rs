@@ -118,12 +118,13 @@ impl Run {
 /// The copy is there because of what the code's placement in memory does to a kernel's time: on
 /// the Zen 5 host of docs/performance.md, six copies of one driver file, three runs each (A,
 /// 1.2M contacts, double AVX-512, full set), gave one copy 23.9-25.4 ns in all three runs, two
-/// copies 18.2-18.6 ns in all three, and the other three copies a mix of both. A copy's code
-/// sits in its own page-cache pages, so the physical addresses of the kernels (which the L2
-/// cache's index uses) follow the file; every run of one file shares them. Run from one file,
-/// the five runs of an invocation all drew that file's placement, and the median reported it
-/// (one invocation gave the full set 22.4 ns where the same driver copied elsewhere took
-/// 17.3-18.1). With a copy per run the median is over five placements.
+/// copies 18.2-18.7 ns in all three, and the other three copies a mix of both. A copy's code
+/// sits in its own page-cache pages, so the physical addresses of the kernels follow the file
+/// and every run of one file shares them (the L2 cache picks a line's set by physical
+/// address). Run from one file, the five runs of an invocation all drew that file's placement,
+/// and the median reported it (one invocation gave the full set 22.4 ns, where a copy of the
+/// same file under another name took 17.9-18.8 in four runs of four). With a copy per run the
+/// median is over five placements.
 fn run(exe: &Path, workload: char, contacts: usize, reps: usize, extra: &[String]) -> Run {
     let copy = exe.with_extension(format!("run-{}", std::process::id()));
     std::fs::copy(exe, &copy).expect("copying the bench driver");
