@@ -1097,8 +1097,11 @@ fn conv3<L: Lanes>(lo: &Vec3<L::Geo>, hi: &Vec3<L::Geo>) -> Vec3<L> {
 }
 
 /// How many contacts ahead of the current chunk the kernels touch the scattered data and the
-/// state. Measured at 1M contacts (f64, AVX-512): 16 to 96 all give 51-54 ns/contact; without
-/// the state in the prefetch, 87 at every distance.
+/// state. Measured at 1M contacts (f64, AVX-512), when the kernel took 51-54 ns per contact:
+/// 16 to 96 all gave that; without the state in the prefetch, 87 at every distance. Remeasured
+/// on the Zen 5 host of docs/performance.md at 1.2M contacts, where the kernels take 15-18 ns:
+/// 24 took 1.15x (double full set) to 1.40x (double rolling + twisting) the time of 48, and 64
+/// took 1.01x and 1.02x, single precision's full set 1.22x (alternating runs, medians).
 const TOUCH_AHEAD: usize = 48;
 
 /// A call whose host arrays take fewer bytes than this ([`Gather::footprint`]) does not
