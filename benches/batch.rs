@@ -120,8 +120,8 @@ impl Run {
 /// 1.2M contacts, double AVX-512, full set), gave one copy 23.9-25.4 ns in all three runs, two
 /// copies 18.2-18.7 ns in all three, and the other three copies a mix of both. A copy's code
 /// sits in its own page-cache pages, so the physical addresses of the kernels follow the file
-/// and every run of one file shares them (the L2 cache picks a line's set by physical
-/// address). Run from one file, the five runs of an invocation all drew that file's placement,
+/// and every run of one file shares them (the suspected link: the L2 cache picks a line's set
+/// by physical address). Run from one file, the five runs of an invocation all drew that file's placement,
 /// and the median reported it (one invocation gave the full set 22.4 ns, where a copy of the
 /// same file under another name took 17.9-18.8 in four runs of four). With a copy per run the
 /// median is over five placements.
@@ -133,9 +133,10 @@ fn run(exe: &Path, workload: char, contacts: usize, reps: usize, extra: &[String
         .arg(reps.to_string())
         .arg(format!("--workload={workload}"))
         .args(extra)
-        .output()
-        .expect("running the bench driver");
+        .output();
+    // Removed before any panic below, so that a failed run leaves no copy behind.
     std::fs::remove_file(&copy).expect("removing the copy of the bench driver");
+    let out = out.expect("running the bench driver");
     assert!(
         out.status.success(),
         "bench driver (workload {workload}, {contacts} contacts) failed:\n{}",
