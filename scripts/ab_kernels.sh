@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Before/after comparison of two builds of the library on the benchmark driver (bench/bench.c):
-# links the driver to each static library, runs them alternately ROUNDS times, and prints the
-# median ns per contact of every row for both and their ratio (after / before). Alternating
-# runs close in time are what shows a change of a few percent on a host where single runs of
-# a row scatter by more.
+# links the driver to each static library, runs them alternately ROUNDS times (each run from a
+# fresh copy of its driver's file), and prints the median ns per contact of every row for both
+# and their ratio (after / before). Alternating runs close in time are what shows a change of a
+# few percent on a host where single runs of a row scatter by more.
 #
 #   [REPS=N] scripts/ab_kernels.sh BEFORE.a AFTER.a [CONTACTS, 1200000] [ROUNDS, 5] [ROW SUBSTRING] [driver options...]
 #
@@ -52,8 +52,13 @@ for _ in $(seq "$rounds"); do
     if [ "$side" = after ] && [ -n "${AFTER_ENV:-}" ]; then
       read -ra extra <<<"$AFTER_ENV"
     fi
-    env "${extra[@]}" "$tmp/$side" "$contacts" "${REPS:-3}" --workload=A --only="$only" "$@" 2>&1 |
+    # Each run from a fresh copy of the driver's file: the code's placement in memory comes
+    # with the file's page-cache pages, and every run of one file shares them (docs/performance.md,
+    # "Where the driver's file lies"); a copy per run draws a new placement each time.
+    cp "$tmp/$side" "$tmp/run"
+    env "${extra[@]}" "$tmp/run" "$contacts" "${REPS:-3}" --workload=A --only="$only" "$@" 2>&1 |
       awk -v s="$side" '/^row/ {print s, $2 ":" $3, $4}'
+    rm -f "$tmp/run"
   done
 done >"$tmp/runs"
 python3 - "$tmp/runs" <<'PY'
