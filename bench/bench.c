@@ -116,7 +116,8 @@
  *   batch_f64_<l>[SCENE]  workload A only: rsl_batch_step of the other scenes at each level,
  *                   f64: full/exact, slide+roll/exact, generic(full/lammps),
  *                   slide+roll/lammps, generic(slide+roll/lammps), full/lammps+marshall
- *                   (twisting marshall), generic(full/lammps+marshall) (group full),
+ *                   (twisting marshall), generic(full/lammps+marshall), full/exact+marshall,
+ *                   generic(full/exact+marshall) (group full),
  *                   roll+twist/exact, generic(rolltwist) (group rolltwist), sliding/exact,
  *                   generic(sliding) (group sliding), and generic(S) for each exact scene S.
  *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
@@ -1216,7 +1217,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 15 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 17 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1234,7 +1235,8 @@ int main(int argc, char **argv) {
               *roll_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 1, 1),
               *sliding_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 0),
               *slide_roll_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 0),
-              *full_lammps_marshall = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 2);
+              *full_lammps_marshall = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 2),
+              *full_exact_marshall = make_model(RSL_PRESET_OBJECTIVE, 1, 1, 2);
     /* other scenes (workload A), each in the group whose floor and baseline it is set against;
      * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
@@ -1252,6 +1254,8 @@ int main(int argc, char **argv) {
         {"generic(slide+roll/lammps)", slide_roll_lammps, RSL_BATCH_GENERIC, FULL},
         {"full/lammps+marshall", full_lammps_marshall, 0, FULL},
         {"generic(full/lammps+marshall)", full_lammps_marshall, RSL_BATCH_GENERIC, FULL},
+        {"full/exact+marshall", full_exact_marshall, 0, FULL},
+        {"generic(full/exact+marshall)", full_exact_marshall, RSL_BATCH_GENERIC, FULL},
         {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
         {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},

@@ -84,6 +84,10 @@
 // (`RSL_TWISTING_MARSHALL`).
 #define RSL_SCENE_FULL_LAMMPS_MARSHALL 9
 
+// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling + twisting
+// marshall (`RSL_TWISTING_MARSHALL`).
+#define RSL_SCENE_FULL_EXACT_MARSHALL 10
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

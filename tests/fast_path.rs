@@ -34,9 +34,12 @@ fn models() -> Vec<Model> {
     let mut ratio = full;
     ratio.rolling.damping_rule = RollingDamping::Ratio;
     ratio.rolling.damping = 0.3;
-    // Marshall twisting with the objective preset (with LAMMPS' it has a scene).
+    // Marshall twisting with first-order transports (with the objective preset's exact ones,
+    // or LAMMPS', it has a scene).
     let mut marshall = full;
     marshall.twisting.law = TwistingLaw::Marshall;
+    marshall.sliding_transport = Transport::FirstOrder;
+    marshall.rolling_transport = Transport::FirstOrder;
     let mut models: Vec<Model> = scene_models().into_iter().map(|(m, _)| m).collect();
     models.extend([energy, yade, liggghts, derived, ratio, marshall]);
     for m in &models {
@@ -345,6 +348,7 @@ fn scene_result_test_never_passes_a_non_finite_result() {
                 Scene::RollingTwistingExact => scene_step::<7>(&model, &c),
                 Scene::SlidingRollingLammps => scene_step::<8>(&model, &c),
                 Scene::FullLammpsMarshall => scene_step::<9>(&model, &c),
+                Scene::FullExactMarshall => scene_step::<10>(&model, &c),
                 Scene::Generic => unreachable!("scene_models gives specialised scenes"),
             };
             let Some((passed, o, next)) = step else {

@@ -37,11 +37,15 @@ pub enum Scene {
     /// LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall (the
     /// twisting coefficients derived from the sliding ones and the contact radius).
     FullLammpsMarshall = 9,
+    /// Objective preset, exact transport: linear sliding + EPSD rolling (as `FullExact`) +
+    /// twisting marshall (the twisting coefficients derived from the sliding ones and the
+    /// contact radius).
+    FullExactMarshall = 10,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 10] = [
+    pub const ALL: [Scene; 11] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
@@ -52,6 +56,7 @@ impl Scene {
         Scene::RollingTwistingExact,
         Scene::SlidingRollingLammps,
         Scene::FullLammpsMarshall,
+        Scene::FullExactMarshall,
     ];
 
     /// A short name (benchmark tables).
@@ -67,6 +72,7 @@ impl Scene {
             Scene::RollingTwistingExact => "roll+twist/exact",
             Scene::SlidingRollingLammps => "slide+roll/lammps",
             Scene::FullLammpsMarshall => "full/lammps+marshall",
+            Scene::FullExactMarshall => "full/exact+marshall",
         }
     }
 
@@ -84,6 +90,7 @@ impl Scene {
             7 => Scene::RollingTwistingExact,
             8 => Scene::SlidingRollingLammps,
             9 => Scene::FullLammpsMarshall,
+            10 => Scene::FullExactMarshall,
             _ => Scene::Generic,
         }
     }
@@ -118,6 +125,7 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
         Scene::RollingTwistingExact => (false, true, sds, exact),
         Scene::SlidingRollingLammps => (true, true, TwistingLaw::None, lammps),
         Scene::FullLammpsMarshall => (true, true, TwistingLaw::Marshall, lammps),
+        Scene::FullExactMarshall => (true, true, TwistingLaw::Marshall, exact),
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear

@@ -95,6 +95,9 @@ pub const RSL_SCENE_SLIDING_ROLLING_LAMMPS: u32 = 8;
 /// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall
 /// (`RSL_TWISTING_MARSHALL`).
 pub const RSL_SCENE_FULL_LAMMPS_MARSHALL: u32 = 9;
+/// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling + twisting
+/// marshall (`RSL_TWISTING_MARSHALL`).
+pub const RSL_SCENE_FULL_EXACT_MARSHALL: u32 = 10;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -737,7 +740,8 @@ pub fn run_step<A: CAccess>(
             RollingTwistingLammps,
             RollingTwistingExact,
             SlidingRollingLammps,
-            FullLammpsMarshall
+            FullLammpsMarshall,
+            FullExactMarshall
         ],
         access,
         (model, dt, access)
@@ -788,7 +792,12 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
         (0, WITH_NORMAL) => by_kernel!(
             config,
             scene,
-            [FullExact, SlidingExact, SlidingRollingExact],
+            [
+                FullExact,
+                SlidingExact,
+                SlidingRollingExact,
+                FullExactMarshall
+            ],
             access,
             (model, dt, access)
         ),
@@ -1849,6 +1858,7 @@ mod tests {
                 Scene::SlidingRollingLammps,
             ),
             (RSL_SCENE_FULL_LAMMPS_MARSHALL, Scene::FullLammpsMarshall),
+            (RSL_SCENE_FULL_EXACT_MARSHALL, Scene::FullExactMarshall),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());
         for (code, scene) in constants {

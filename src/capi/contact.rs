@@ -604,12 +604,12 @@ pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
     scene_steps(avx2)[scene as usize]
 }
 
-/// `[f::<0>, ..., f::<9>]`: a step function for each scene code.
+/// `[f::<0>, ..., f::<10>]`: a step function for each scene code.
 macro_rules! per_scene {
     ($f:ident) => {
         [
             $f::<0>, $f::<1>, $f::<2>, $f::<3>, $f::<4>, $f::<5>, $f::<6>, $f::<7>, $f::<8>,
-            $f::<9>,
+            $f::<9>, $f::<10>,
         ]
     };
 }
@@ -1403,20 +1403,36 @@ pub(super) mod tests {
         exact.rolling_transport = Transport::Exact;
         let mut energy = exact;
         energy.track_energy = true;
-        // Marshall twisting: generic with the objective preset, a scene with LAMMPS'.
-        let mut marshall = exact;
-        marshall.twisting.law = TwistingLaw::Marshall;
+        // Marshall twisting: generic with first-order transports, a scene with the objective
+        // preset's exact ones and with LAMMPS'.
+        let mut exact_marshall = exact;
+        exact_marshall.twisting.law = TwistingLaw::Marshall;
+        let mut marshall = exact_marshall;
+        marshall.sliding_transport = Transport::FirstOrder;
+        marshall.rolling_transport = Transport::FirstOrder;
         let mut roll_twist = full;
         roll_twist.sliding.law = SlidingLaw::None;
         let mut lammps_marshall = full;
         lammps_marshall.twisting.law = TwistingLaw::Marshall;
-        let models = vec![full, exact, energy, marshall, roll_twist, lammps_marshall];
+        let models = vec![
+            full,
+            exact,
+            energy,
+            marshall,
+            roll_twist,
+            lammps_marshall,
+            exact_marshall,
+        ];
         let scenes: Vec<Scene> = models.iter().map(Scene::classify).collect();
         assert_eq!(scenes[..2], [Scene::FullLammps, Scene::FullExact]);
         assert_eq!(scenes[2..4], [Scene::Generic, Scene::Generic]);
         assert_eq!(
             scenes[4..],
-            [Scene::RollingTwistingLammps, Scene::FullLammpsMarshall]
+            [
+                Scene::RollingTwistingLammps,
+                Scene::FullLammpsMarshall,
+                Scene::FullExactMarshall
+            ]
         );
         models
     }

@@ -46,6 +46,8 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     slide_roll_lammps.twisting.law = TwistingLaw::None;
     let mut lammps_marshall = lammps;
     lammps_marshall.twisting.law = TwistingLaw::Marshall;
+    let mut exact_marshall = full;
+    exact_marshall.twisting.law = TwistingLaw::Marshall;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -56,6 +58,7 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (roll_twist, Scene::RollingTwistingExact),
         (slide_roll_lammps, Scene::SlidingRollingLammps),
         (lammps_marshall, Scene::FullLammpsMarshall),
+        (exact_marshall, Scene::FullExactMarshall),
     ]
 }
 
