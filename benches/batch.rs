@@ -121,10 +121,10 @@ impl Run {
 /// copies 18.2-18.7 ns in all three, and the other three copies a mix of both. A copy's code
 /// sits in its own page-cache pages, so the physical addresses of the kernels follow the file
 /// and every run of one file shares them (the suspected link: the L2 cache picks a line's set
-/// by physical address). Run from one file, the five runs of an invocation all drew that file's placement,
-/// and the median reported it (one invocation gave the full set 22.4 ns, where a copy of the
-/// same file under another name took 17.9-18.8 in four runs of four). With a copy per run the
-/// median is over five placements.
+/// by physical address). Run from one file, the five runs of an invocation all drew that
+/// file's placement, and the median reported it (one invocation gave the full set 22.4 ns,
+/// where a copy of the same file under another name took 17.9-18.8 in four runs of four).
+/// With a copy per run the median is over five placements.
 fn run(exe: &Path, workload: char, contacts: usize, reps: usize, extra: &[String]) -> Run {
     let copy = exe.with_extension(format!("run-{}", std::process::id()));
     std::fs::copy(exe, &copy).expect("copying the bench driver");
