@@ -9,7 +9,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 mod common;
-use common::linking::{compiler, deps_dir, native_libs, root, static_library};
+use common::linking::{
+    compiler, deps_dir, native_libs, remove_test_program, root, static_library,
+    test_program_link_flags,
+};
 
 fn run(mut cmd: Command, what: &str) -> Result<String, String> {
     let out = cmd
@@ -39,6 +42,7 @@ fn build_c_program(sources: &[PathBuf], exe: &Path) -> Result<(), String> {
         .args(sources)
         .arg(static_library())
         .args(native_libs())
+        .args(test_program_link_flags())
         .arg("-o")
         .arg(exe);
     run(cmd, &format!("compiling {}", exe.display())).map(|_| ())
@@ -131,10 +135,12 @@ fn main() {
             .arg(&src)
             .arg(static_library())
             .args(native_libs())
+            .args(test_program_link_flags())
             .arg("-o")
             .arg(&out);
         run(cmd, "compiling the header as C++")?;
         run(Command::new(&out), "running the C++ program")?;
+        remove_test_program(&out);
         Ok(())
     }));
 
@@ -167,6 +173,7 @@ fn main() {
                     .arg(root().join("c_tests/test_wrapper.cpp"))
                     .arg(static_library())
                     .args(native_libs())
+                    .args(test_program_link_flags())
                     .arg("-o")
                     .arg(&exe);
                 run(cmd, &format!("compiling rollslide.hpp's test ({label})"))?;
@@ -174,6 +181,7 @@ fn main() {
                 if !printed.contains("all checks passed") {
                     return Err(format!("{label} printed:\n{printed}").into());
                 }
+                remove_test_program(&exe);
                 Ok(())
             });
             trials.push(trial.with_ignored_flag(use_clang && !clang));
@@ -192,9 +200,15 @@ fn main() {
             if !printed.contains("rolling velocity") {
                 return Err(format!("README snippet printed unexpected output:\n{printed}").into());
             }
+            remove_test_program(&out);
             Ok(())
         },
     ));
 
-    libtest_mimic::run(&args, trials).exit();
+    let conclusion = libtest_mimic::run(&args, trials);
+    // The C tests' program stays after a failure, for a debugger.
+    if !conclusion.has_failed() {
+        remove_test_program(&exe);
+    }
+    conclusion.exit();
 }

@@ -9,7 +9,10 @@ use std::process::Command;
 use std::sync::OnceLock;
 
 mod common;
-use common::linking::{compiler, deps_dir, native_libs, root, static_library};
+use common::linking::{
+    compiler, deps_dir, native_libs, remove_test_program, root, static_library,
+    test_program_link_flags,
+};
 
 /// The line before the guide's ```text block that holds the program's output.
 const MARKER: &str =
@@ -48,10 +51,13 @@ fn program_output() -> &'static Result<String, String> {
             .arg(root().join("examples/calibration.c"))
             .arg(static_library())
             .args(native_libs())
+            .args(test_program_link_flags())
             .arg("-o")
             .arg(&exe);
         run(cmd, "compiling examples/calibration.c")?;
-        run(Command::new(&exe), "running examples/calibration.c")
+        let output = run(Command::new(&exe), "running examples/calibration.c")?;
+        remove_test_program(&exe);
+        Ok(output)
     })
 }
 

@@ -8,7 +8,10 @@
 use std::process::Command;
 
 mod common;
-use common::linking::{compiler, deps_dir, native_libs, root, static_library};
+use common::linking::{
+    compiler, deps_dir, native_libs, remove_test_program, root, static_library,
+    test_program_link_flags,
+};
 
 /// Runs a command; returns its exit success and its stdout + stderr.
 fn run(cmd: &mut Command) -> (bool, String) {
@@ -42,6 +45,7 @@ fn parallel_forces_example_is_bitwise_the_serial_step() {
     .arg(root().join("examples/parallel_forces.c"))
     .arg(static_library())
     .args(native_libs())
+    .args(test_program_link_flags())
     .arg("-o")
     .arg(&exe);
     let (built, text) = run(&mut cc);
@@ -54,6 +58,7 @@ fn parallel_forces_example_is_bitwise_the_serial_step() {
     let (passed, printed) = run(&mut Command::new(&exe));
     print!("{printed}");
     assert!(passed, "parallel_forces failed:\n{printed}");
+    remove_test_program(&exe);
     assert!(
         printed.contains("parallel_forces: all checks passed"),
         "{printed}"
