@@ -7,9 +7,14 @@
 #   examples/lammps/ab.sh <lmp before> <lmp after> [rounds, 5] [cells per side, 24] [steps, 1000]
 #
 # Keep the first binary before rebuilding: cp build-lammps/lmp_rollslide /tmp/lmp_before.
+# PRESET (environment): the style's mode, `lammps` (default) or `objective`.
+# To compare two builds of the library under one lmp_rollslide, give as <lmp before> a script
+# that runs it with LD_LIBRARY_PATH set to a directory holding the other librollslide.so.0.2:
+#   printf '#!/bin/sh\nLD_LIBRARY_PATH=/tmp/old exec %s "$@"\n' "$PWD/build-lammps/lmp_rollslide" > /tmp/lmp_old
 set -euo pipefail
 before=$(realpath "$1")
 after=$(realpath "$2")
+preset=${PRESET:-lammps}
 rounds=${3:-5}
 n=${4:-24}
 steps=${5:-1000}
@@ -21,7 +26,7 @@ for _ in $(seq "$rounds"); do
   for side in before after; do
     exe=${!side}
     for law in A B; do
-      "$exe" -in "$input" -log log -screen none -var pair granular/rollslide -var preset lammps \
+      "$exe" -in "$input" -log log -screen none -var pair granular/rollslide -var preset "$preset" \
         -var law "$law" -var n "$n" -var steps "$steps" -var thermo 50
       echo "$side $law $(awk -F'|' '/^Pair /{gsub(/ /, "", $3); print $3}' log)"
     done
