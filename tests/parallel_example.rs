@@ -58,7 +58,6 @@ fn parallel_forces_example_is_bitwise_the_serial_step() {
     let (passed, printed) = run(&mut Command::new(&exe));
     print!("{printed}");
     assert!(passed, "parallel_forces failed:\n{printed}");
-    remove_test_program(&exe);
     assert!(
         printed.contains("parallel_forces: all checks passed"),
         "{printed}"
@@ -79,4 +78,5 @@ fn parallel_forces_example_is_bitwise_the_serial_step() {
         differ > 0,
         "reordering the sums changed no bit: the bitwise comparison proves nothing here"
     );
+    remove_test_program(&exe);
 }

@@ -42,15 +42,15 @@ pub fn native_libs() -> Vec<String> {
 
 /// Linker flags for every test program linked against the unoptimised static library:
 /// `--gc-sections` drops the functions the program cannot reach and `-S` (`--strip-debug`) the
-/// library's line tables. Unoptimised, the 576 batch kernels are 811 MB of machine code, and a
-/// C test program that steps a batch was 1.21 GB; with these flags it is 0.48 GB and links in
-/// 2.4 s instead of 5.8. The C test programs of one `cargo test` once filled 9.2 GB, and the
-/// disk of the CI machine ran out (stop 56).
+/// library's line tables. Unoptimised, a C test program that steps a batch held 811 MB of
+/// machine code (the batch kernels, most of it) and 1.21 GB in all; with these flags it is
+/// 0.48 GB and links in 2.4 s instead of 5.8. The C test programs of one `cargo test` once
+/// filled 9.2 GB, and the disk of the CI machine ran out.
 pub fn test_program_link_flags() -> [&'static str; 2] {
     ["-Wl,--gc-sections", "-Wl,-S"]
 }
 
-/// Removes a test program once it has run and passed (a failed one stays for a debugger):
+/// Removes a test program once it has run and passed (a failed one stays, to be rerun by hand):
 /// each is about 0.5 GB (see [`test_program_link_flags`]).
 pub fn remove_test_program(exe: &Path) {
     // A program that is already gone (or never built) is fine.
