@@ -10,7 +10,7 @@ use std::process::Command;
 
 mod common;
 use common::linking::{
-    compiler, deps_dir, native_libs, remove_test_program, root, static_library,
+    c_program_command, compiler, deps_dir, native_libs, remove_test_program, root, static_library,
     test_program_link_flags,
 };
 
@@ -32,19 +32,12 @@ fn run(mut cmd: Command, what: &str) -> Result<String, String> {
 
 /// Compiles C sources into an executable linked against the static library.
 fn build_c_program(sources: &[PathBuf], exe: &Path) -> Result<(), String> {
-    let mut cmd = compiler(false).to_command();
-    cmd.args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
-        .arg(format!("-DRSL_SOURCE_DIR=\"{}\"", root().display()))
-        .arg("-I")
-        .arg(root().join("include"))
-        .arg("-I")
-        .arg(root().join("c_tests"))
-        .args(sources)
-        .arg(static_library())
-        .args(native_libs())
-        .args(test_program_link_flags())
-        .arg("-o")
-        .arg(exe);
+    let extra = [
+        format!("-DRSL_SOURCE_DIR=\"{}\"", root().display()),
+        "-I".to_string(),
+        root().join("c_tests").display().to_string(),
+    ];
+    let cmd = c_program_command(sources, &extra, exe);
     run(cmd, &format!("compiling {}", exe.display())).map(|_| ())
 }
 

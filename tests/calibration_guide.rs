@@ -9,10 +9,7 @@ use std::process::Command;
 use std::sync::OnceLock;
 
 mod common;
-use common::linking::{
-    compiler, deps_dir, native_libs, remove_test_program, root, static_library,
-    test_program_link_flags,
-};
+use common::linking::{c_program_command, deps_dir, remove_test_program, root};
 
 /// The line before the guide's ```text block that holds the program's output.
 const MARKER: &str =
@@ -44,16 +41,11 @@ fn program_output() -> &'static Result<String, String> {
         let work = deps_dir().join("../calibration_guide_build");
         std::fs::create_dir_all(&work).unwrap();
         let exe = work.join("calibration");
-        let mut cmd = compiler(false).to_command();
-        cmd.args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
-            .arg("-I")
-            .arg(root().join("include"))
-            .arg(root().join("examples/calibration.c"))
-            .arg(static_library())
-            .args(native_libs())
-            .args(test_program_link_flags())
-            .arg("-o")
-            .arg(&exe);
+        let cmd = c_program_command(
+            &[root().join("examples/calibration.c")],
+            &[] as &[&str],
+            &exe,
+        );
         run(cmd, "compiling examples/calibration.c")?;
         let output = run(Command::new(&exe), "running examples/calibration.c")?;
         remove_test_program(&exe);

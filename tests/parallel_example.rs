@@ -8,10 +8,7 @@
 use std::process::Command;
 
 mod common;
-use common::linking::{
-    compiler, deps_dir, native_libs, remove_test_program, root, static_library,
-    test_program_link_flags,
-};
+use common::linking::{c_program_command, deps_dir, remove_test_program, root};
 
 /// Runs a command; returns its exit success and its stdout + stderr.
 fn run(cmd: &mut Command) -> (bool, String) {
@@ -31,23 +28,11 @@ fn parallel_forces_example_is_bitwise_the_serial_step() {
     let work = deps_dir().join("../parallel_example_build");
     std::fs::create_dir_all(&work).unwrap();
     let exe = work.join("parallel_forces");
-    let mut cc = compiler(false).to_command();
-    cc.args([
-        "-std=c11",
-        "-Wall",
-        "-Wextra",
-        "-Werror",
-        "-pedantic",
-        "-pthread",
-    ])
-    .arg("-I")
-    .arg(root().join("include"))
-    .arg(root().join("examples/parallel_forces.c"))
-    .arg(static_library())
-    .args(native_libs())
-    .args(test_program_link_flags())
-    .arg("-o")
-    .arg(&exe);
+    let mut cc = c_program_command(
+        &[root().join("examples/parallel_forces.c")],
+        &["-pthread"],
+        &exe,
+    );
     let (built, text) = run(&mut cc);
     assert!(
         built,

@@ -69,6 +69,31 @@ pub fn compiler(cpp: bool) -> cc::Tool {
         .get_compiler()
 }
 
+/// The command that builds the C test program `exe` from the C11 `sources`: the strict flags
+/// every C program of the tests compiles with (`-std=c11 -Wall -Wextra -Werror -pedantic`), the
+/// repository's `include/`, then `extra` (defines, include directories, `-pthread`), linked
+/// against the static library, the system libraries it needs ([`native_libs`]) and
+/// [`test_program_link_flags`]. The C tests and the examples the tests run all build through
+/// it, so that they cannot drift apart on the flags.
+pub fn c_program_command<S: AsRef<std::ffi::OsStr>>(
+    sources: &[PathBuf],
+    extra: &[S],
+    exe: &Path,
+) -> std::process::Command {
+    let mut cmd = compiler(false).to_command();
+    cmd.args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .arg("-I")
+        .arg(root().join("include"))
+        .args(extra)
+        .args(sources)
+        .arg(static_library())
+        .args(native_libs())
+        .args(test_program_link_flags())
+        .arg("-o")
+        .arg(exe);
+    cmd
+}
+
 /// Runs a command; panics with its whole output when it fails. Returns stdout + stderr.
 pub fn run(cmd: &mut std::process::Command) -> String {
     let shown = format!("{cmd:?}");
