@@ -29,19 +29,20 @@
 #define RSL_PRECISION_F32 1
 
 // SIMD: the widest level the CPU supports, in both precisions: AVX-512, then AVX2+FMA, then
-// scalar.
+// scalar (the only level off x86-64).
 #define RSL_SIMD_AUTO 0
 
-// SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).
+// SIMD: none (one contact at a time; runs on any CPU, as SSE2 scalar code on x86-64).
 #define RSL_SIMD_SCALAR 1
 
 // SIMD: AVX2 + FMA (8 double lanes in two ymm registers for the steps, 4 in one for
-// `rsl_batch_decompose`, or 8 single lanes);
+// `rsl_batch_decompose`, or 8 single lanes); x86-64 only,
 // `RSL_ERR_INVALID_ARGUMENT` if absent.
 #define RSL_SIMD_AVX2 2
 
 // SIMD: AVX-512 F/VL/DQ/BW (8 double lanes in one zmm register; single precision steps 16
-// lanes in one zmm, `rsl_batch_decompose` 8 in a ymm); `RSL_ERR_INVALID_ARGUMENT` if absent.
+// lanes in one zmm, `rsl_batch_decompose` 8 in a ymm); x86-64 only, `RSL_ERR_INVALID_ARGUMENT`
+// if absent.
 #define RSL_SIMD_AVX512 3
 
 // Batch flag: do not use a scene-specialised kernel (take the law decisions at run time).

@@ -32,12 +32,13 @@ pub mod lanes;
 pub mod scene;
 pub mod states;
 
-#[cfg(test)]
+#[cfg(all(test, target_arch = "x86_64"))]
 pub(crate) use block::state_words;
-pub(crate) use block::{
-    group_of, pair_bodies_by_reference, store_loads_by_value, BODY_WORDS, GROUP, STATE_WORDS,
-};
+// For the C layer's SIMD copiers, which exist on x86-64 only.
+#[cfg(target_arch = "x86_64")]
+pub(crate) use block::{group_of, pair_bodies_by_reference, store_loads_by_value, BODY_WORDS};
 pub use block::{step_kernel, GroupCopy, GroupRow, GroupRowsMut, LoadRows, PortableCopy};
+pub(crate) use block::{GROUP, STATE_WORDS};
 pub use lanes::{Lanes, MAX_LANES};
 pub use scene::Scene;
 pub use states::{ContactStates, IndexedStates};

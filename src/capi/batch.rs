@@ -22,6 +22,7 @@ use super::indexed::IndexedGroups;
 use super::model::{live_model, rsl_model};
 use super::status::FfiError;
 #[cfg(target_arch = "x86_64")]
+#[cfg(target_arch = "x86_64")]
 use super::transpose::{Avx2Copy, Avx512Copy};
 use super::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use super::{guard, optional_input, output};
@@ -29,10 +30,12 @@ use crate::batch::history::{
     history_layout, history_words, state_from_words as history_state_from_words, words_from_state,
     HistoryLayout, NO_SLIDING, SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS,
 };
+#[cfg(target_arch = "x86_64")]
+use crate::batch::GroupCopy;
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactStates, ContactSteps, DecomposeAccess,
-    DecompositionSlot, Gather, GroupCopy, IndexedStates, LoadsSlot, ModelSliding, PairLoads,
+    DecompositionSlot, Gather, IndexedStates, LoadsSlot, ModelSliding, PairLoads,
     ParticleDecompose, ParticleSteps, PortableCopy, Scene, SlidingOverrides, SlidingSource,
     SphereSlot, StateSlot, StepAccess,
 };
@@ -53,16 +56,17 @@ pub const RSL_PRECISION_F64: u32 = 0;
 pub const RSL_PRECISION_F32: u32 = 1;
 
 /// SIMD: the widest level the CPU supports, in both precisions: AVX-512, then AVX2+FMA, then
-/// scalar.
+/// scalar (the only level off x86-64).
 pub const RSL_SIMD_AUTO: u32 = 0;
-/// SIMD: none (one contact at a time, SSE2 scalar code; runs on any x86-64).
+/// SIMD: none (one contact at a time; runs on any CPU, as SSE2 scalar code on x86-64).
 pub const RSL_SIMD_SCALAR: u32 = 1;
 /// SIMD: AVX2 + FMA (8 double lanes in two ymm registers for the steps, 4 in one for
-/// `rsl_batch_decompose`, or 8 single lanes);
+/// `rsl_batch_decompose`, or 8 single lanes); x86-64 only,
 /// `RSL_ERR_INVALID_ARGUMENT` if absent.
 pub const RSL_SIMD_AVX2: u32 = 2;
 /// SIMD: AVX-512 F/VL/DQ/BW (8 double lanes in one zmm register; single precision steps 16
-/// lanes in one zmm, `rsl_batch_decompose` 8 in a ymm); `RSL_ERR_INVALID_ARGUMENT` if absent.
+/// lanes in one zmm, `rsl_batch_decompose` 8 in a ymm); x86-64 only, `RSL_ERR_INVALID_ARGUMENT`
+/// if absent.
 pub const RSL_SIMD_AVX512: u32 = 3;
 
 /// Batch flag: do not use a scene-specialised kernel (take the law decisions at run time).
@@ -154,6 +158,9 @@ pub struct rsl_batch_loads {
 /// 25.4 into L2.
 #[inline(always)]
 pub(crate) fn prefetch_l1<T>(p: &T) {
+    // Off x86-64 there is no hint to give.
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
     #[cfg(target_arch = "x86_64")]
     // SAFETY: PREFETCHT0 is a hint: it never faults and changes no architectural state; the
     // address comes from a live reference anyway.
@@ -169,6 +176,9 @@ pub(crate) fn prefetch_l1<T>(p: &T) {
 /// of 48 contacts ahead crowd L1.
 #[inline(always)]
 pub(crate) fn prefetch<T>(p: &T) {
+    // Off x86-64 there is no hint to give.
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
     #[cfg(target_arch = "x86_64")]
     // SAFETY: PREFETCHT1 is a hint: it never faults and changes no architectural state; the
     // address comes from a live reference anyway.

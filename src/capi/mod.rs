@@ -15,6 +15,7 @@ pub mod indexed;
 mod lanes_x86;
 pub mod model;
 pub mod status;
+#[cfg(target_arch = "x86_64")]
 mod transpose;
 pub mod types;
 pub mod version;
