@@ -22,7 +22,6 @@ use super::indexed::IndexedGroups;
 use super::model::{live_model, rsl_model};
 use super::status::FfiError;
 #[cfg(target_arch = "x86_64")]
-#[cfg(target_arch = "x86_64")]
 use super::transpose::{Avx2Copy, Avx512Copy};
 use super::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use super::{guard, optional_input, output};
