@@ -10,8 +10,7 @@ use std::process::Command;
 
 mod common;
 use common::linking::{
-    c_program_command, compiler, deps_dir, native_libs, remove_test_program, root, static_library,
-    test_program_link_flags,
+    c_program_command, compiler, deps_dir, link_test_program, remove_test_program, root,
 };
 
 fn run(mut cmd: Command, what: &str) -> Result<String, String> {
@@ -125,12 +124,8 @@ fn main() {
         cmd.args(["-std=c++11", "-Wall", "-Wextra", "-Werror", "-pedantic"])
             .arg("-I")
             .arg(root().join("include"))
-            .arg(&src)
-            .arg(static_library())
-            .args(native_libs())
-            .args(test_program_link_flags())
-            .arg("-o")
-            .arg(&out);
+            .arg(&src);
+        link_test_program(&mut cmd, &out);
         run(cmd, "compiling the header as C++")?;
         run(Command::new(&out), "running the C++ program")?;
         remove_test_program(&out);
@@ -163,12 +158,8 @@ fn main() {
                     .args(["-O1", "-Wall", "-Wextra", "-Werror", "-pedantic"])
                     .arg("-I")
                     .arg(root().join("include"))
-                    .arg(root().join("c_tests/test_wrapper.cpp"))
-                    .arg(static_library())
-                    .args(native_libs())
-                    .args(test_program_link_flags())
-                    .arg("-o")
-                    .arg(&exe);
+                    .arg(root().join("c_tests/test_wrapper.cpp"));
+                link_test_program(&mut cmd, &exe);
                 run(cmd, &format!("compiling rollslide.hpp's test ({label})"))?;
                 let printed = run(Command::new(&exe), &label)?;
                 if !printed.contains("all checks passed") {
@@ -199,7 +190,7 @@ fn main() {
     ));
 
     let conclusion = libtest_mimic::run(&args, trials);
-    // The C tests' program stays after a failure, for a debugger.
+    // The C tests' program stays after a failure, to be rerun by hand (it has no line tables).
     if !conclusion.has_failed() {
         remove_test_program(&exe);
     }

@@ -69,11 +69,23 @@ pub fn compiler(cpp: bool) -> cc::Tool {
         .get_compiler()
 }
 
+/// Appends to a compile command what every test program links with: the static library, the
+/// system libraries it needs ([`native_libs`]), [`test_program_link_flags`], and `-o exe`.
+pub fn link_test_program<'a>(
+    cmd: &'a mut std::process::Command,
+    exe: &Path,
+) -> &'a mut std::process::Command {
+    cmd.arg(static_library())
+        .args(native_libs())
+        .args(test_program_link_flags())
+        .arg("-o")
+        .arg(exe)
+}
+
 /// The command that builds the C test program `exe` from the C11 `sources`: the strict flags
 /// every C program of the tests compiles with (`-std=c11 -Wall -Wextra -Werror -pedantic`), the
-/// repository's `include/`, then `extra` (defines, include directories, `-pthread`), linked
-/// against the static library, the system libraries it needs ([`native_libs`]) and
-/// [`test_program_link_flags`]. The C tests and the examples the tests run all build through
+/// repository's `include/`, then `extra` (defines, include directories, `-pthread`), linked as
+/// [`link_test_program`] links. The C tests and the examples the tests run all build through
 /// it, so that they cannot drift apart on the flags.
 pub fn c_program_command<S: AsRef<std::ffi::OsStr>>(
     sources: &[PathBuf],
@@ -85,12 +97,8 @@ pub fn c_program_command<S: AsRef<std::ffi::OsStr>>(
         .arg("-I")
         .arg(root().join("include"))
         .args(extra)
-        .args(sources)
-        .arg(static_library())
-        .args(native_libs())
-        .args(test_program_link_flags())
-        .arg("-o")
-        .arg(exe);
+        .args(sources);
+    link_test_program(&mut cmd, exe);
     cmd
 }
 
