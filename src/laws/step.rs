@@ -302,6 +302,91 @@ fn adhesive_limit<T: Real>(adhesion: T, mu: T, force: T) -> T {
     select(sum.simd_lt(T::zero()), T::zero(), sum)
 }
 
+/// The EPSD rolling spring's coefficients (stiffness and damping in the law's form, the limit
+/// on the limits' force `f_limit`) and its spring carried into the current frame: all the law
+/// needs before its rate. `r_r` is the rolling radius, `k_t` the sliding stiffness (the EPSD2
+/// rule reads it), `radius2` body 2's radius (unread for a wall), `lammps_threshold` the
+/// preset's LAMMPS test of when project-rescale acts, `increment` whether the spring is
+/// transported at all (not in a setup pass that leaves it).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn epsd_spring_setup<T: Real>(
+    model: &Model,
+    input: &StepInput<T>,
+    r_r: T,
+    k_t: T,
+    f_limit: T,
+    radius1: T,
+    radius2: T,
+    is_wall: bool,
+    spring: &Vec3<T>,
+    frame: &Frame<T>,
+    lammps_threshold: bool,
+    increment: bool,
+) -> (SpringCoefficients<T>, Vec3<T>) {
+    let p = &model.rolling;
+    let angle = p.form == RollingForm::Angle;
+    let friction = input.rolling_friction.unwrap_or(lit(p.friction));
+    // mu_r (dimensionless) whatever the form.
+    let mu_r = if angle { friction / r_r } else { friction };
+    let limit = limit_of(friction, f_limit);
+    let r2 = r_r * r_r;
+    // Derived stiffness as k_theta, then in the law's form.
+    let derived = match p.stiffness_rule {
+        RollingStiffness::Given => None,
+        RollingStiffness::Epsd => Some(lit::<T>(2.25) * input.normal_stiffness * mu_r * mu_r * r2),
+        RollingStiffness::Epsd2 => Some(k_t * r2),
+        RollingStiffness::Epsd3 => {
+            Some(lit::<T>(p.stiffness_factor) * input.normal_stiffness * mu_r * mu_r * r2)
+        }
+    };
+    let k = match (input.rolling_stiffness, derived) {
+        (Some(k), _) => k,
+        (None, None) => lit(p.stiffness),
+        (None, Some(k_theta)) if angle => k_theta,
+        (None, Some(k_theta)) => k_theta / r2,
+    };
+    let damping = input.rolling_damping.unwrap_or(lit(p.damping));
+    let gamma = match p.damping_rule {
+        RollingDamping::Given => damping,
+        RollingDamping::Ratio => {
+            let k_theta = if angle { k } else { k * r2 };
+            let reduced1 = input.inertia1 + input.mass1 * radius1 * radius1;
+            let inv2 = if is_wall {
+                T::zero()
+            } else {
+                T::one() / (input.inertia2 + input.mass2 * radius2 * radius2)
+            };
+            let i_r = T::one() / (T::one() / reduced1 + inv2);
+            let c_theta = damping * lit(2.0) * (i_r * k_theta).simd_sqrt();
+            if angle {
+                c_theta
+            } else {
+                c_theta / r2
+            }
+        }
+    };
+    let spring = if increment {
+        let when = if lammps_threshold {
+            RescaleWhen::Lammps {
+                stiffness: k,
+                limit,
+            }
+        } else {
+            RescaleWhen::NormalPart
+        };
+        transport(model.rolling_transport, spring, frame, when)
+    } else {
+        *spring
+    };
+    let c = SpringCoefficients {
+        stiffness: k,
+        damping: gamma,
+        limit,
+    };
+    (c, spring)
+}
+
 /// Steps one contact without input checks (every [`Real`] type). `state` is updated in place
 /// unless the setup pass says otherwise. Inputs must satisfy what the checked entry points verify.
 #[inline(always)]
@@ -429,6 +514,30 @@ pub fn contact_step_with_geometry<T: Real>(
     let k_t = input
         .sliding_stiffness
         .unwrap_or(lit(model.sliding.stiffness));
+    // The EPSD rolling spring's coefficients and transport, given the limits' force. Where the
+    // sliding law cannot change that force (every preset's rules but YADE's cohesion), they
+    // are taken here, ahead of the sliding law: the same operations on the same values, but
+    // the two transports' divisions and square roots are then in flight together instead of
+    // one after the other (the double AVX2 kernels took 4-6% less time, docs/performance.md).
+    let r_r = g.rolling_radius;
+    let epsd_setup = |f_limit: T| {
+        epsd_spring_setup(
+            model,
+            input,
+            r_r,
+            k_t,
+            f_limit,
+            body1.radius,
+            radius2,
+            is_wall,
+            &state.rolling_spring,
+            &frame,
+            conv.lammps_rescale_threshold,
+            increment_rolling,
+        )
+    };
+    let early_epsd = (rolling_on && model.rolling.law == RollingLaw::Epsd && !yade_cohesion)
+        .then(|| epsd_setup(f_limit));
     let gamma_t = input.sliding_damping.unwrap_or(lit(model.sliding.damping));
     let mut sliding_force = Vec3::zeros();
     let mut sliding_energy = SpringEnergy::zero();
@@ -549,7 +658,6 @@ pub fn contact_step_with_geometry<T: Real>(
     };
 
     // Rolling.
-    let r_r = g.rolling_radius;
     let dw = w1 - w2;
     let mut rolling_moment = Vec3::zeros();
     let mut rolling_energy = SpringEnergy::zero();
@@ -564,8 +672,6 @@ pub fn contact_step_with_geometry<T: Real>(
         // The rate conjugate to the stored spring: the spin or v_r = R_r (w1 - w2) x n.
         let rate = if angle { spin } else { cross(&dw, &n) * r_r };
         let friction = input.rolling_friction.unwrap_or(lit(p.friction));
-        // mu_r (dimensionless) whatever the form.
-        let mu_r = if angle { friction / r_r } else { friction };
         let limit = limit_of(friction, f_limit);
         match p.law {
             RollingLaw::None => {}
@@ -615,63 +721,15 @@ pub fn contact_step_with_geometry<T: Real>(
                 }
             }
             RollingLaw::Epsd => {
-                let r2 = r_r * r_r;
-                // Derived stiffness as k_theta, then in the law's form.
-                let derived = match p.stiffness_rule {
-                    RollingStiffness::Given => None,
-                    RollingStiffness::Epsd => {
-                        Some(lit::<T>(2.25) * input.normal_stiffness * mu_r * mu_r * r2)
-                    }
-                    RollingStiffness::Epsd2 => Some(k_t * r2),
-                    RollingStiffness::Epsd3 => Some(
-                        lit::<T>(p.stiffness_factor) * input.normal_stiffness * mu_r * mu_r * r2,
-                    ),
-                };
-                let k = match (input.rolling_stiffness, derived) {
-                    (Some(k), _) => k,
-                    (None, None) => lit(p.stiffness),
-                    (None, Some(k_theta)) if angle => k_theta,
-                    (None, Some(k_theta)) => k_theta / r2,
-                };
-                let damping = input.rolling_damping.unwrap_or(lit(p.damping));
-                let gamma = match p.damping_rule {
-                    RollingDamping::Given => damping,
-                    RollingDamping::Ratio => {
-                        let k_theta = if angle { k } else { k * r2 };
-                        let reduced1 = input.inertia1 + input.mass1 * body1.radius * body1.radius;
-                        let inv2 = if is_wall {
-                            zero
-                        } else {
-                            T::one() / (input.inertia2 + input.mass2 * radius2 * radius2)
-                        };
-                        let i_r = T::one() / (T::one() / reduced1 + inv2);
-                        let c_theta = damping * lit(2.0) * (i_r * k_theta).simd_sqrt();
-                        if angle {
-                            c_theta
-                        } else {
-                            c_theta / r2
-                        }
-                    }
-                };
-                let spring = if increment_rolling {
-                    transport(
-                        model.rolling_transport,
-                        &state.rolling_spring,
-                        &frame,
-                        rescale_when(k, limit),
-                    )
-                } else {
-                    state.rolling_spring
-                };
+                let (c, spring) = early_epsd.unwrap_or_else(|| epsd_setup(f_limit));
                 if energy_on {
-                    transport_change +=
-                        transport_energy(conv.rolling_storage, k, &state.rolling_spring, &spring);
+                    transport_change += transport_energy(
+                        conv.rolling_storage,
+                        c.stiffness,
+                        &state.rolling_spring,
+                        &spring,
+                    );
                 }
-                let c = SpringCoefficients {
-                    stiffness: k,
-                    damping: gamma,
-                    limit,
-                };
                 let rule = match p.damping_mode {
                     DampingMode::Always => conv.rolling_clip,
                     DampingMode::BelowLimit => ClipRule::SpringOnly,
