@@ -305,9 +305,9 @@ fn adhesive_limit<T: Real>(adhesion: T, mu: T, force: T) -> T {
 /// The EPSD rolling spring's coefficients (stiffness and damping in the law's form, the limit
 /// on the limits' force `f_limit`) and its spring carried into the current frame: all the law
 /// needs before its rate. `r_r` is the rolling radius, `k_t` the sliding stiffness (the EPSD2
-/// rule reads it), `radius2` body 2's radius (unread for a wall), `lammps_threshold` the
-/// preset's LAMMPS test of when project-rescale acts, `increment` whether the spring is
-/// transported at all (not in a setup pass that leaves it).
+/// rule reads it), `radius2` body 2's radius (unread for a wall), `rescale_when` the preset's
+/// rule of when project-rescale acts, from the spring's stiffness and limit, `increment`
+/// whether the spring is transported at all (not in a setup pass that leaves it).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn epsd_spring_setup<T: Real>(
@@ -321,7 +321,7 @@ fn epsd_spring_setup<T: Real>(
     is_wall: bool,
     spring: &Vec3<T>,
     frame: &Frame<T>,
-    lammps_threshold: bool,
+    rescale_when: impl Fn(T, T) -> RescaleWhen<T>,
     increment: bool,
 ) -> (SpringCoefficients<T>, Vec3<T>) {
     let p = &model.rolling;
@@ -367,15 +367,12 @@ fn epsd_spring_setup<T: Real>(
         }
     };
     let spring = if increment {
-        let when = if lammps_threshold {
-            RescaleWhen::Lammps {
-                stiffness: k,
-                limit,
-            }
-        } else {
-            RescaleWhen::NormalPart
-        };
-        transport(model.rolling_transport, spring, frame, when)
+        transport(
+            model.rolling_transport,
+            spring,
+            frame,
+            rescale_when(k, limit),
+        )
     } else {
         *spring
     };
@@ -518,7 +515,8 @@ pub fn contact_step_with_geometry<T: Real>(
     // sliding law cannot change that force (every preset's rules but YADE's cohesion), they
     // are taken here, ahead of the sliding law: the same operations on the same values, but
     // the two transports' divisions and square roots are then in flight together instead of
-    // one after the other (the double AVX2 kernels took 4-6% less time, docs/performance.md).
+    // one after the other (the double AVX2 kernels took about 5% less time,
+    // docs/performance.md).
     let r_r = g.rolling_radius;
     let epsd_setup = |f_limit: T| {
         epsd_spring_setup(
@@ -532,7 +530,7 @@ pub fn contact_step_with_geometry<T: Real>(
             is_wall,
             &state.rolling_spring,
             &frame,
-            conv.lammps_rescale_threshold,
+            rescale_when,
             increment_rolling,
         )
     };
