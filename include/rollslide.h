@@ -89,6 +89,10 @@
 // marshall (`RSL_TWISTING_MARSHALL`).
 #define RSL_SCENE_FULL_EXACT_MARSHALL 10
 
+// Scene kernel: objective preset, exact transport, EPSD rolling only (no sliding or twisting
+// law).
+#define RSL_SCENE_ROLLING_EXACT 11
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

@@ -41,11 +41,15 @@ pub enum Scene {
     /// twisting marshall (the twisting coefficients derived from the sliding ones and the
     /// contact radius).
     FullExactMarshall = 10,
+    /// Objective preset, exact transport: EPSD rolling only (as `FullExact`'s), no sliding or
+    /// twisting law: rolling resistance added to a host that computes its own normal and
+    /// tangential forces.
+    RollingExact = 11,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 11] = [
+    pub const ALL: [Scene; 12] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
@@ -57,6 +61,7 @@ impl Scene {
         Scene::SlidingRollingLammps,
         Scene::FullLammpsMarshall,
         Scene::FullExactMarshall,
+        Scene::RollingExact,
     ];
 
     /// A short name (benchmark tables).
@@ -73,6 +78,7 @@ impl Scene {
             Scene::SlidingRollingLammps => "slide+roll/lammps",
             Scene::FullLammpsMarshall => "full/lammps+marshall",
             Scene::FullExactMarshall => "full/exact+marshall",
+            Scene::RollingExact => "roll/exact",
         }
     }
 
@@ -91,6 +97,7 @@ impl Scene {
             8 => Scene::SlidingRollingLammps,
             9 => Scene::FullLammpsMarshall,
             10 => Scene::FullExactMarshall,
+            11 => Scene::RollingExact,
             _ => Scene::Generic,
         }
     }
@@ -126,6 +133,7 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
         Scene::SlidingRollingLammps => (true, true, TwistingLaw::None, lammps),
         Scene::FullLammpsMarshall => (true, true, TwistingLaw::Marshall, lammps),
         Scene::FullExactMarshall => (true, true, TwistingLaw::Marshall, exact),
+        Scene::RollingExact => (false, true, TwistingLaw::None, exact),
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear

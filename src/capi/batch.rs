@@ -101,6 +101,9 @@ pub const RSL_SCENE_FULL_LAMMPS_MARSHALL: u32 = 9;
 /// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling + twisting
 /// marshall (`RSL_TWISTING_MARSHALL`).
 pub const RSL_SCENE_FULL_EXACT_MARSHALL: u32 = 10;
+/// Scene kernel: objective preset, exact transport, EPSD rolling only (no sliding or twisting
+/// law).
+pub const RSL_SCENE_ROLLING_EXACT: u32 = 11;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -750,7 +753,8 @@ pub fn run_step<A: CAccess>(
             RollingTwistingExact,
             SlidingRollingLammps,
             FullLammpsMarshall,
-            FullExactMarshall
+            FullExactMarshall,
+            RollingExact
         ],
         access,
         (model, dt, access)
@@ -820,7 +824,7 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
         (NO_SLIDING, WITH_NORMAL) => by_kernel!(
             config,
             scene,
-            [RollingTwistingExact],
+            [RollingTwistingExact, RollingExact],
             access,
             (model, dt, access)
         ),
@@ -1868,6 +1872,7 @@ mod tests {
             ),
             (RSL_SCENE_FULL_LAMMPS_MARSHALL, Scene::FullLammpsMarshall),
             (RSL_SCENE_FULL_EXACT_MARSHALL, Scene::FullExactMarshall),
+            (RSL_SCENE_ROLLING_EXACT, Scene::RollingExact),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());
         for (code, scene) in constants {

@@ -48,6 +48,8 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     lammps_marshall.twisting.law = TwistingLaw::Marshall;
     let mut exact_marshall = full;
     exact_marshall.twisting.law = TwistingLaw::Marshall;
+    let mut roll = roll_twist;
+    roll.twisting.law = TwistingLaw::None;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -59,6 +61,7 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (slide_roll_lammps, Scene::SlidingRollingLammps),
         (lammps_marshall, Scene::FullLammpsMarshall),
         (exact_marshall, Scene::FullExactMarshall),
+        (roll, Scene::RollingExact),
     ]
 }
 
