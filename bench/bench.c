@@ -118,8 +118,9 @@
  *                   slide+roll/lammps, generic(slide+roll/lammps), full/lammps+marshall
  *                   (twisting marshall), generic(full/lammps+marshall), full/exact+marshall,
  *                   generic(full/exact+marshall) (group full),
- *                   roll+twist/exact, generic(rolltwist), roll/exact (rolling only: no
- *                   twisting law) (group rolltwist), sliding/exact,
+ *                   roll+twist/exact, generic(rolltwist), roll/exact, roll/lammps (rolling
+ *                   only: no twisting law), generic(roll/lammps) (group rolltwist),
+ *                   sliding/exact,
  *                   generic(sliding) (group sliding), and generic(S) for each exact scene S.
  *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
  *                   midplane branches): not the baseline's physics. generic(X) is the model
@@ -1218,7 +1219,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 19 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 21 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1238,7 +1239,8 @@ int main(int argc, char **argv) {
               *slide_roll_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 0),
               *full_lammps_marshall = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 2),
               *full_exact_marshall = make_model(RSL_PRESET_OBJECTIVE, 1, 1, 2),
-              *roll_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 1, 0);
+              *roll_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 1, 0),
+              *roll_lammps = make_model(RSL_PRESET_LAMMPS_2021, 0, 1, 0);
     /* other scenes (workload A), each in the group whose floor and baseline it is set against;
      * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
@@ -1263,6 +1265,8 @@ int main(int argc, char **argv) {
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},
         {"roll/exact", roll_exact, 0, ROLLTWIST},
         {"generic(roll/exact)", roll_exact, RSL_BATCH_GENERIC, ROLLTWIST},
+        {"roll/lammps", roll_lammps, 0, ROLLTWIST},
+        {"generic(roll/lammps)", roll_lammps, RSL_BATCH_GENERIC, ROLLTWIST},
         {"sliding/exact", sliding_exact, 0, SLIDING},
         {"generic(sliding/exact)", sliding_exact, RSL_BATCH_GENERIC, SLIDING},
         {"generic(sliding)", set_model[SLIDING], RSL_BATCH_GENERIC, SLIDING},

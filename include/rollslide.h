@@ -93,6 +93,10 @@
 // law).
 #define RSL_SCENE_ROLLING_EXACT 11
 
+// Scene kernel: LAMMPS_2021 preset, project-rescale transport, EPSD rolling only (no sliding or
+// twisting law).
+#define RSL_SCENE_ROLLING_LAMMPS 12
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

@@ -45,11 +45,15 @@ pub enum Scene {
     /// twisting law: rolling resistance added to a host that computes its own normal and
     /// tangential forces.
     RollingExact = 11,
+    /// LAMMPS_2021 preset, project-rescale transport: EPSD rolling only (as `FullLammps`'s), no
+    /// sliding or twisting law: LAMMPS' `pair granular` rolling sds on a host that computes its
+    /// own normal and tangential forces.
+    RollingLammps = 12,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 12] = [
+    pub const ALL: [Scene; 13] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
@@ -62,6 +66,7 @@ impl Scene {
         Scene::FullLammpsMarshall,
         Scene::FullExactMarshall,
         Scene::RollingExact,
+        Scene::RollingLammps,
     ];
 
     /// A short name (benchmark tables).
@@ -79,6 +84,7 @@ impl Scene {
             Scene::FullLammpsMarshall => "full/lammps+marshall",
             Scene::FullExactMarshall => "full/exact+marshall",
             Scene::RollingExact => "roll/exact",
+            Scene::RollingLammps => "roll/lammps",
         }
     }
 
@@ -98,6 +104,7 @@ impl Scene {
             9 => Scene::FullLammpsMarshall,
             10 => Scene::FullExactMarshall,
             11 => Scene::RollingExact,
+            12 => Scene::RollingLammps,
             _ => Scene::Generic,
         }
     }
@@ -134,6 +141,7 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
         Scene::FullLammpsMarshall => (true, true, TwistingLaw::Marshall, lammps),
         Scene::FullExactMarshall => (true, true, TwistingLaw::Marshall, exact),
         Scene::RollingExact => (false, true, TwistingLaw::None, exact),
+        Scene::RollingLammps => (false, true, TwistingLaw::None, lammps),
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear

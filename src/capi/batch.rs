@@ -104,6 +104,9 @@ pub const RSL_SCENE_FULL_EXACT_MARSHALL: u32 = 10;
 /// Scene kernel: objective preset, exact transport, EPSD rolling only (no sliding or twisting
 /// law).
 pub const RSL_SCENE_ROLLING_EXACT: u32 = 11;
+/// Scene kernel: LAMMPS_2021 preset, project-rescale transport, EPSD rolling only (no sliding or
+/// twisting law).
+pub const RSL_SCENE_ROLLING_LAMMPS: u32 = 12;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -754,7 +757,8 @@ pub fn run_step<A: CAccess>(
             SlidingRollingLammps,
             FullLammpsMarshall,
             FullExactMarshall,
-            RollingExact
+            RollingExact,
+            RollingLammps
         ],
         access,
         (model, dt, access)
@@ -817,7 +821,7 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
         (NO_SLIDING, SPRINGS_ONLY) => by_kernel!(
             config,
             scene,
-            [RollingTwistingLammps],
+            [RollingTwistingLammps, RollingLammps],
             access,
             (model, dt, access)
         ),
@@ -1873,6 +1877,7 @@ mod tests {
             (RSL_SCENE_FULL_LAMMPS_MARSHALL, Scene::FullLammpsMarshall),
             (RSL_SCENE_FULL_EXACT_MARSHALL, Scene::FullExactMarshall),
             (RSL_SCENE_ROLLING_EXACT, Scene::RollingExact),
+            (RSL_SCENE_ROLLING_LAMMPS, Scene::RollingLammps),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());
         for (code, scene) in constants {

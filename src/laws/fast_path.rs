@@ -284,6 +284,7 @@ pub fn contact_step_pair_fast(
             Scene::FullLammpsMarshall => try_step_pair::<9>(model, body1, body2, input, state),
             Scene::FullExactMarshall => try_step_pair::<10>(model, body1, body2, input, state),
             Scene::RollingExact => try_step_pair::<11>(model, body1, body2, input, state),
+            Scene::RollingLammps => try_step_pair::<12>(model, body1, body2, input, state),
         };
         if let Some((out, next)) = fast {
             *state = next;

@@ -50,6 +50,8 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     exact_marshall.twisting.law = TwistingLaw::Marshall;
     let mut roll = roll_twist;
     roll.twisting.law = TwistingLaw::None;
+    let mut roll_lammps = roll_twist_lammps;
+    roll_lammps.twisting.law = TwistingLaw::None;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -62,6 +64,7 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (lammps_marshall, Scene::FullLammpsMarshall),
         (exact_marshall, Scene::FullExactMarshall),
         (roll, Scene::RollingExact),
+        (roll_lammps, Scene::RollingLammps),
     ]
 }
 
