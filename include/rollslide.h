@@ -97,6 +97,14 @@
 // twisting law).
 #define RSL_SCENE_ROLLING_LAMMPS 12
 
+// Scene kernel: LAMMPS_2021 preset, project-rescale transport, twisting sds only (no sliding or
+// rolling law).
+#define RSL_SCENE_TWISTING_LAMMPS 13
+
+// Scene kernel: LAMMPS_2021 preset, project-rescale transport, linear history sliding +
+// twisting sds (no rolling law).
+#define RSL_SCENE_SLIDING_TWISTING_LAMMPS 14
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

@@ -49,11 +49,18 @@ pub enum Scene {
     /// sliding or twisting law: LAMMPS' `pair granular` rolling sds on a host that computes its
     /// own normal and tangential forces.
     RollingLammps = 12,
+    /// LAMMPS_2021 preset, project-rescale transport: twisting sds only, no sliding or rolling
+    /// law: LAMMPS' `pair granular` twisting sds on a host that computes its own normal and
+    /// tangential forces.
+    TwistingLammps = 13,
+    /// LAMMPS_2021 preset, project-rescale transport: linear history sliding + twisting sds, no
+    /// rolling law.
+    SlidingTwistingLammps = 14,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 13] = [
+    pub const ALL: [Scene; 15] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
@@ -67,6 +74,8 @@ impl Scene {
         Scene::FullExactMarshall,
         Scene::RollingExact,
         Scene::RollingLammps,
+        Scene::TwistingLammps,
+        Scene::SlidingTwistingLammps,
     ];
 
     /// A short name (benchmark tables).
@@ -85,6 +94,8 @@ impl Scene {
             Scene::FullExactMarshall => "full/exact+marshall",
             Scene::RollingExact => "roll/exact",
             Scene::RollingLammps => "roll/lammps",
+            Scene::TwistingLammps => "twist/lammps",
+            Scene::SlidingTwistingLammps => "slide+twist/lammps",
         }
     }
 
@@ -105,6 +116,8 @@ impl Scene {
             10 => Scene::FullExactMarshall,
             11 => Scene::RollingExact,
             12 => Scene::RollingLammps,
+            13 => Scene::TwistingLammps,
+            14 => Scene::SlidingTwistingLammps,
             _ => Scene::Generic,
         }
     }
@@ -142,6 +155,8 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
         Scene::FullExactMarshall => (true, true, TwistingLaw::Marshall, exact),
         Scene::RollingExact => (false, true, TwistingLaw::None, exact),
         Scene::RollingLammps => (false, true, TwistingLaw::None, lammps),
+        Scene::TwistingLammps => (false, false, sds, lammps),
+        Scene::SlidingTwistingLammps => (true, false, sds, lammps),
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear

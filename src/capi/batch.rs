@@ -107,6 +107,12 @@ pub const RSL_SCENE_ROLLING_EXACT: u32 = 11;
 /// Scene kernel: LAMMPS_2021 preset, project-rescale transport, EPSD rolling only (no sliding or
 /// twisting law).
 pub const RSL_SCENE_ROLLING_LAMMPS: u32 = 12;
+/// Scene kernel: LAMMPS_2021 preset, project-rescale transport, twisting sds only (no sliding or
+/// rolling law).
+pub const RSL_SCENE_TWISTING_LAMMPS: u32 = 13;
+/// Scene kernel: LAMMPS_2021 preset, project-rescale transport, linear history sliding +
+/// twisting sds (no rolling law).
+pub const RSL_SCENE_SLIDING_TWISTING_LAMMPS: u32 = 14;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -758,7 +764,9 @@ pub fn run_step<A: CAccess>(
             FullLammpsMarshall,
             FullExactMarshall,
             RollingExact,
-            RollingLammps
+            RollingLammps,
+            TwistingLammps,
+            SlidingTwistingLammps
         ],
         access,
         (model, dt, access)
@@ -769,9 +777,9 @@ pub fn run_step<A: CAccess>(
 /// As [`run_step`] for packed histories of `W` doubles from full-layout word `F` ([`Record`]),
 /// which must be the model's [`history_layout`] (checked). Only the scenes whose models have
 /// that layout get a specialised kernel: the LAMMPS scenes with a sliding law for 7 words from
-/// word 0, the objective exact-transport ones for 10; without a sliding law, rolling + twisting
-/// LAMMPS for 4 words from word 3, rolling + twisting exact for 7; none for the YADE preset's
-/// layouts (13 words, or 10 from word 3), which run the generic kernel.
+/// word 0, the objective exact-transport ones for 10; without a sliding law, the LAMMPS ones
+/// for 4 words from word 3, the exact ones for 7; none for the YADE preset's layouts (13 words,
+/// or 10 from word 3), which run the generic kernel.
 pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
     model: &Model,
     dt: f64,
@@ -801,7 +809,8 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
                 FullLammps,
                 SlidingLammps,
                 SlidingRollingLammps,
-                FullLammpsMarshall
+                FullLammpsMarshall,
+                SlidingTwistingLammps
             ],
             access,
             (model, dt, access)
@@ -821,7 +830,7 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
         (NO_SLIDING, SPRINGS_ONLY) => by_kernel!(
             config,
             scene,
-            [RollingTwistingLammps, RollingLammps],
+            [RollingTwistingLammps, RollingLammps, TwistingLammps],
             access,
             (model, dt, access)
         ),
@@ -1878,6 +1887,11 @@ mod tests {
             (RSL_SCENE_FULL_EXACT_MARSHALL, Scene::FullExactMarshall),
             (RSL_SCENE_ROLLING_EXACT, Scene::RollingExact),
             (RSL_SCENE_ROLLING_LAMMPS, Scene::RollingLammps),
+            (RSL_SCENE_TWISTING_LAMMPS, Scene::TwistingLammps),
+            (
+                RSL_SCENE_SLIDING_TWISTING_LAMMPS,
+                Scene::SlidingTwistingLammps,
+            ),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());
         for (code, scene) in constants {

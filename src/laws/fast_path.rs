@@ -285,6 +285,8 @@ pub fn contact_step_pair_fast(
             Scene::FullExactMarshall => try_step_pair::<10>(model, body1, body2, input, state),
             Scene::RollingExact => try_step_pair::<11>(model, body1, body2, input, state),
             Scene::RollingLammps => try_step_pair::<12>(model, body1, body2, input, state),
+            Scene::TwistingLammps => try_step_pair::<13>(model, body1, body2, input, state),
+            Scene::SlidingTwistingLammps => try_step_pair::<14>(model, body1, body2, input, state),
         };
         if let Some((out, next)) = fast {
             *state = next;

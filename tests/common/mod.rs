@@ -52,6 +52,10 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     roll.twisting.law = TwistingLaw::None;
     let mut roll_lammps = roll_twist_lammps;
     roll_lammps.twisting.law = TwistingLaw::None;
+    let mut twist_lammps = roll_twist_lammps;
+    twist_lammps.rolling.law = RollingLaw::None;
+    let mut slide_twist_lammps = lammps;
+    slide_twist_lammps.rolling.law = RollingLaw::None;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -65,6 +69,8 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (exact_marshall, Scene::FullExactMarshall),
         (roll, Scene::RollingExact),
         (roll_lammps, Scene::RollingLammps),
+        (twist_lammps, Scene::TwistingLammps),
+        (slide_twist_lammps, Scene::SlidingTwistingLammps),
     ]
 }
 
