@@ -118,10 +118,12 @@
  *                   slide+roll/lammps, generic(slide+roll/lammps), full/lammps+marshall
  *                   (twisting marshall), generic(full/lammps+marshall), full/exact+marshall,
  *                   generic(full/exact+marshall), slide+twist/lammps (no rolling law),
- *                   generic(slide+twist/lammps) (group full),
+ *                   generic(slide+twist/lammps), slide+twist/exact,
+ *                   generic(slide+twist/exact) (group full),
  *                   roll+twist/exact, generic(rolltwist), roll/exact, roll/lammps (rolling
  *                   only: no twisting law), generic(roll/lammps), twist/lammps (twisting
- *                   only: no sliding or rolling law), generic(twist/lammps) (group rolltwist),
+ *                   only: no sliding or rolling law), generic(twist/lammps), twist/exact,
+ *                   generic(twist/exact) (group rolltwist),
  *                   sliding/exact,
  *                   generic(sliding) (group sliding), and generic(S) for each exact scene S.
  *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
@@ -1221,7 +1223,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 25 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 29 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1244,7 +1246,9 @@ int main(int argc, char **argv) {
               *roll_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 1, 0),
               *roll_lammps = make_model(RSL_PRESET_LAMMPS_2021, 0, 1, 0),
               *twist_lammps = make_model(RSL_PRESET_LAMMPS_2021, 0, 0, 1),
-              *slide_twist_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 0, 1);
+              *slide_twist_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 0, 1),
+              *twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 0, 1),
+              *slide_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 1);
     /* other scenes (workload A), each in the group whose floor and baseline it is set against;
      * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
@@ -1266,6 +1270,8 @@ int main(int argc, char **argv) {
         {"generic(full/exact+marshall)", full_exact_marshall, RSL_BATCH_GENERIC, FULL},
         {"slide+twist/lammps", slide_twist_lammps, 0, FULL},
         {"generic(slide+twist/lammps)", slide_twist_lammps, RSL_BATCH_GENERIC, FULL},
+        {"slide+twist/exact", slide_twist_exact, 0, FULL},
+        {"generic(slide+twist/exact)", slide_twist_exact, RSL_BATCH_GENERIC, FULL},
         {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
         {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},
@@ -1275,6 +1281,8 @@ int main(int argc, char **argv) {
         {"generic(roll/lammps)", roll_lammps, RSL_BATCH_GENERIC, ROLLTWIST},
         {"twist/lammps", twist_lammps, 0, ROLLTWIST},
         {"generic(twist/lammps)", twist_lammps, RSL_BATCH_GENERIC, ROLLTWIST},
+        {"twist/exact", twist_exact, 0, ROLLTWIST},
+        {"generic(twist/exact)", twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"sliding/exact", sliding_exact, 0, SLIDING},
         {"generic(sliding/exact)", sliding_exact, RSL_BATCH_GENERIC, SLIDING},
         {"generic(sliding)", set_model[SLIDING], RSL_BATCH_GENERIC, SLIDING},

@@ -105,6 +105,14 @@
 // twisting sds (no rolling law).
 #define RSL_SCENE_SLIDING_TWISTING_LAMMPS 14
 
+// Scene kernel: objective preset, exact transport, twisting sds only (no sliding or rolling
+// law).
+#define RSL_SCENE_TWISTING_EXACT 15
+
+// Scene kernel: objective preset, exact transport, linear sliding + twisting sds (no rolling
+// law).
+#define RSL_SCENE_SLIDING_TWISTING_EXACT 16
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

@@ -353,6 +353,8 @@ fn scene_result_test_never_passes_a_non_finite_result() {
                 Scene::RollingLammps => scene_step::<12>(&model, &c),
                 Scene::TwistingLammps => scene_step::<13>(&model, &c),
                 Scene::SlidingTwistingLammps => scene_step::<14>(&model, &c),
+                Scene::TwistingExact => scene_step::<15>(&model, &c),
+                Scene::SlidingTwistingExact => scene_step::<16>(&model, &c),
                 Scene::Generic => unreachable!("scene_models gives specialised scenes"),
             };
             let Some((passed, o, next)) = step else {

@@ -56,11 +56,17 @@ pub enum Scene {
     /// LAMMPS_2021 preset, project-rescale transport: linear history sliding + twisting sds, no
     /// rolling law.
     SlidingTwistingLammps = 14,
+    /// Objective preset, exact transport: twisting sds only (as `FullExact`'s), no sliding or
+    /// rolling law: twisting resistance added to a host that computes its own normal and
+    /// tangential forces.
+    TwistingExact = 15,
+    /// Objective preset, exact transport: linear sliding + twisting sds, no rolling law.
+    SlidingTwistingExact = 16,
 }
 
 impl Scene {
     /// Every scene, in code order.
-    pub const ALL: [Scene; 15] = [
+    pub const ALL: [Scene; 17] = [
         Scene::Generic,
         Scene::FullExact,
         Scene::FullLammps,
@@ -76,6 +82,8 @@ impl Scene {
         Scene::RollingLammps,
         Scene::TwistingLammps,
         Scene::SlidingTwistingLammps,
+        Scene::TwistingExact,
+        Scene::SlidingTwistingExact,
     ];
 
     /// A short name (benchmark tables).
@@ -96,6 +104,8 @@ impl Scene {
             Scene::RollingLammps => "roll/lammps",
             Scene::TwistingLammps => "twist/lammps",
             Scene::SlidingTwistingLammps => "slide+twist/lammps",
+            Scene::TwistingExact => "twist/exact",
+            Scene::SlidingTwistingExact => "slide+twist/exact",
         }
     }
 
@@ -118,6 +128,8 @@ impl Scene {
             12 => Scene::RollingLammps,
             13 => Scene::TwistingLammps,
             14 => Scene::SlidingTwistingLammps,
+            15 => Scene::TwistingExact,
+            16 => Scene::SlidingTwistingExact,
             _ => Scene::Generic,
         }
     }
@@ -157,6 +169,8 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
         Scene::RollingLammps => (false, true, TwistingLaw::None, lammps),
         Scene::TwistingLammps => (false, false, sds, lammps),
         Scene::SlidingTwistingLammps => (true, false, sds, lammps),
+        Scene::TwistingExact => (false, false, sds, exact),
+        Scene::SlidingTwistingExact => (true, false, sds, exact),
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear

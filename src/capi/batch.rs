@@ -113,6 +113,12 @@ pub const RSL_SCENE_TWISTING_LAMMPS: u32 = 13;
 /// Scene kernel: LAMMPS_2021 preset, project-rescale transport, linear history sliding +
 /// twisting sds (no rolling law).
 pub const RSL_SCENE_SLIDING_TWISTING_LAMMPS: u32 = 14;
+/// Scene kernel: objective preset, exact transport, twisting sds only (no sliding or rolling
+/// law).
+pub const RSL_SCENE_TWISTING_EXACT: u32 = 15;
+/// Scene kernel: objective preset, exact transport, linear sliding + twisting sds (no rolling
+/// law).
+pub const RSL_SCENE_SLIDING_TWISTING_EXACT: u32 = 16;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -766,7 +772,9 @@ pub fn run_step<A: CAccess>(
             RollingExact,
             RollingLammps,
             TwistingLammps,
-            SlidingTwistingLammps
+            SlidingTwistingLammps,
+            TwistingExact,
+            SlidingTwistingExact
         ],
         access,
         (model, dt, access)
@@ -822,7 +830,8 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
                 FullExact,
                 SlidingExact,
                 SlidingRollingExact,
-                FullExactMarshall
+                FullExactMarshall,
+                SlidingTwistingExact
             ],
             access,
             (model, dt, access)
@@ -837,7 +846,7 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
         (NO_SLIDING, WITH_NORMAL) => by_kernel!(
             config,
             scene,
-            [RollingTwistingExact, RollingExact],
+            [RollingTwistingExact, RollingExact, TwistingExact],
             access,
             (model, dt, access)
         ),
@@ -1891,6 +1900,11 @@ mod tests {
             (
                 RSL_SCENE_SLIDING_TWISTING_LAMMPS,
                 Scene::SlidingTwistingLammps,
+            ),
+            (RSL_SCENE_TWISTING_EXACT, Scene::TwistingExact),
+            (
+                RSL_SCENE_SLIDING_TWISTING_EXACT,
+                Scene::SlidingTwistingExact,
             ),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());

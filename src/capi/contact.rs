@@ -604,12 +604,12 @@ pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
     scene_steps(avx2)[scene as usize]
 }
 
-/// `[f::<0>, ..., f::<14>]`: a step function for each scene code.
+/// `[f::<0>, ..., f::<16>]`: a step function for each scene code.
 macro_rules! per_scene {
     ($f:ident) => {
         [
             $f::<0>, $f::<1>, $f::<2>, $f::<3>, $f::<4>, $f::<5>, $f::<6>, $f::<7>, $f::<8>,
-            $f::<9>, $f::<10>, $f::<11>, $f::<12>, $f::<13>, $f::<14>,
+            $f::<9>, $f::<10>, $f::<11>, $f::<12>, $f::<13>, $f::<14>, $f::<15>, $f::<16>,
         ]
     };
 }

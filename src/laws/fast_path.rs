@@ -287,6 +287,8 @@ pub fn contact_step_pair_fast(
             Scene::RollingLammps => try_step_pair::<12>(model, body1, body2, input, state),
             Scene::TwistingLammps => try_step_pair::<13>(model, body1, body2, input, state),
             Scene::SlidingTwistingLammps => try_step_pair::<14>(model, body1, body2, input, state),
+            Scene::TwistingExact => try_step_pair::<15>(model, body1, body2, input, state),
+            Scene::SlidingTwistingExact => try_step_pair::<16>(model, body1, body2, input, state),
         };
         if let Some((out, next)) = fast {
             *state = next;

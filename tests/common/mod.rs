@@ -56,6 +56,10 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     twist_lammps.rolling.law = RollingLaw::None;
     let mut slide_twist_lammps = lammps;
     slide_twist_lammps.rolling.law = RollingLaw::None;
+    let mut twist = roll_twist;
+    twist.rolling.law = RollingLaw::None;
+    let mut slide_twist = full;
+    slide_twist.rolling.law = RollingLaw::None;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -71,6 +75,8 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (roll_lammps, Scene::RollingLammps),
         (twist_lammps, Scene::TwistingLammps),
         (slide_twist_lammps, Scene::SlidingTwistingLammps),
+        (twist, Scene::TwistingExact),
+        (slide_twist, Scene::SlidingTwistingExact),
     ]
 }
 
