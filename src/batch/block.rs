@@ -401,7 +401,8 @@ fn group<const Q: usize>(rows: &[Row; Q], g: usize) -> [&GroupRow; Q] {
 /// calls [`Gather::touch`](super::Gather::touch) for the contacts `TOUCH_AHEAD` further on;
 /// their in-order part ([`Gather::touch_in_order`](super::Gather::touch_in_order)) goes after
 /// each lane step, in [`step_kernel`].
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
 fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     access: &A,
     copy: X,
@@ -880,7 +881,8 @@ fn moving<L: Lanes>(velocity: Vec3<L>, angular_velocity: Vec3<L>, radius: L) -> 
 /// LAMMPS set, edited builds of the bench driver). The compiler's output is sensitive to such
 /// shapes: rerun the in-cache benchmark at both SIMD levels after any change here. `fused`:
 /// whether the finiteness tests may use fused instructions (see [`FiniteLanes`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
 fn step_lanes<L: Lanes>(
     model: &Model,
     dt: f64,
@@ -953,7 +955,8 @@ fn step_lanes<L: Lanes>(
 /// Steps contact `c` on its own (one-lane types: staging through rows would only add copies),
 /// reading the host's structs and delivering as [`deliver`] does. `model` is the folded model
 /// the step reads, `host_model` the host's, which the report of a refused contact reads.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
 #[allow(clippy::too_many_arguments)]
 fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
     access: &mut A,
@@ -1038,7 +1041,8 @@ fn refuse<A: StepAccess>(
 /// Writes the state and hands over the loads of every valid contact of the block (slots
 /// `0..count`, contacts `c0..`); reports the others. A group of [`GROUP`] valid contacts has
 /// its states written by `copy`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
 #[allow(clippy::too_many_arguments)]
 fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
     access: &mut A,
@@ -1090,6 +1094,19 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
 /// as before the choice existed: a run-time test in the loops, or two copies in one function,
 /// changed how other kernels compiled (in cache a few took 1.2-1.7x the time; at 1.2M contacts
 /// some took 8-26% more).
+///
+/// **Unoptimised builds** (debug assertions on: the `dev` and `test` profiles, and `stress`)
+/// keep the step's large parts out of line: `gather`, `step_lanes`, `step_one`, `deliver` and
+/// `laws::step::contact_step_with_geometry` are `#[inline]` there, `#[inline(always)]` in
+/// optimised builds. Unoptimised, `#[inline(always)]` still inlines, and without optimisation
+/// nothing of the copy is folded away, so each of the library's 864 kernels carried all of
+/// the physics; out of line, rustc compiles one copy per lane type (and per access for the
+/// gather and the delivery). The unoptimised library took 17m34s and 21.2 GB of memory in one
+/// rustc process (the CI machine has 23 GB) to build on the 2-core Zen 3 host of
+/// docs/performance.md, and 32 s and 0.86 GB so; every test program, 1m08s and 0.77 GB. The
+/// results are the same to the bit: Rust does not contract or reorder floating-point
+/// operations, inlined or not. Unoptimised, the kernels never had the scene's constants
+/// folded in anyway (`tests/batch.rs` checks them against the per-contact step either way).
 #[inline(always)]
 pub fn step_kernel<
     L: Lanes,

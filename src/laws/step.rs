@@ -416,7 +416,10 @@ pub fn contact_step_unchecked<T: Real>(
 /// Steps one contact for a geometry already computed from the same bodies with
 /// `model.geometry` (the mixed-precision batch computes it in f64 and steps in f32). Identical
 /// to [`contact_step_unchecked`], which calls this; the bodies' positions are not read here.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+// One copy in unoptimised builds (debug assertions on), shared by every batch kernel and
+// per-contact step of a lane type: see `step_kernel` in src/batch/block.rs.
+#[cfg_attr(debug_assertions, inline)]
 pub fn contact_step_with_geometry<T: Real>(
     model: &Model,
     geometry: ContactGeometry<T>,
