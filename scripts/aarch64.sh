@@ -10,8 +10,9 @@
 #
 # Needs the rustup target `aarch64-unknown-linux-gnu`, the cross linker `aarch64-linux-gnu-gcc`
 # (Debian: gcc-aarch64-linux-gnu, libc6-dev-arm64-cross) and `qemu-aarch64` (Debian: qemu-user);
-# says what is missing and exits 0 without them. Takes about 10 minutes on 2 cores (the batch
-# tests 7 under emulation). Builds into target/aarch64.
+# says what is missing and exits 0 without them. Takes 19-32 minutes on 2 cores, most of it the
+# batch tests under emulation (12 min on the Zen 5 host of docs/performance.md, 28 on the Zen 3
+# one); the builds, unoptimised, about 2 minutes. Builds into target/aarch64.
 set -eu
 cd "$(dirname "$0")/.."
 target=aarch64-unknown-linux-gnu
