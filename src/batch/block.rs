@@ -1095,10 +1095,10 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
 /// changed how other kernels compiled (in cache a few took 1.2-1.7x the time; at 1.2M contacts
 /// some took 8-26% more).
 ///
-/// **Unoptimised builds** (debug assertions on: the `dev` and `test` profiles, and `stress`)
-/// keep the step's large parts out of line: `gather`, `step_lanes`, `step_one`, `deliver` and
-/// `laws::step::contact_step_with_geometry` are `#[inline]` there, `#[inline(always)]` in
-/// optimised builds. Unoptimised, `#[inline(always)]` still inlines, and without optimisation
+/// **Unoptimised builds** keep the step's large parts out of line: `gather`, `step_lanes`,
+/// `step_one`, `deliver` and `laws::step::contact_step_with_geometry` are `#[inline]` with
+/// debug assertions on (the unoptimised `dev` and `test` profiles; also the optimised `stress`
+/// profile, where LLVM decides), `#[inline(always)]` without (release). Unoptimised, `#[inline(always)]` still inlines, and without optimisation
 /// nothing of the copy is folded away, so each of the library's 864 kernels carried all of
 /// the physics; out of line, rustc compiles one copy per lane type (and per access for the
 /// gather and the delivery). The unoptimised library took 17m34s and 21.2 GB of memory in one
