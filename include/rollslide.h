@@ -731,8 +731,6 @@ typedef struct rsl_rolling_params {
 
 
 
-
-
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus

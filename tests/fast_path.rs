@@ -167,6 +167,21 @@ fn same(model: &Model, c: &Case, what: &str) -> bool {
     checked.is_ok()
 }
 
+/// The test models cover the scene table: one model per specialised scene, in code order, each
+/// classified as its scene. A scene added to the table without a model here fails this test
+/// instead of going untested (the kernel tests of tests/batch.rs and this file step the models
+/// of `scene_models`).
+#[test]
+fn scene_models_cover_every_specialised_scene() {
+    let models = scene_models();
+    let scenes: Vec<Scene> = models.iter().map(|&(_, s)| s).collect();
+    assert_eq!(scenes, Scene::ALL[1..].to_vec());
+    for (model, scene) in models {
+        assert_eq!(Scene::classify(&model), scene, "{}", scene.name());
+        assert_eq!(Scene::from_code(scene as u8), scene);
+    }
+}
+
 #[test]
 fn accepted_inputs_give_the_same_bits_over_many_steps() {
     let mut rng = Rng::new(7);

@@ -9,131 +9,170 @@ use crate::laws::model::{
     SlidingLaw, Transport, TwistingLaw,
 };
 
-/// The specialised configurations (the const parameter `S` of the kernels is `Scene as u8`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-pub enum Scene {
-    /// Any model: decisions at run time.
-    Generic = 0,
-    /// Objective preset, exact transport: linear sliding + EPSD rolling (given k, gamma, damping
-    /// always, length form) + sds twisting, no energy bookkeeping.
-    FullExact = 1,
-    /// LAMMPS_2021 preset (project-rescale transport): linear history + rolling sds + twisting
-    /// sds, the hand-written C baseline's physics.
-    FullLammps = 2,
-    /// Objective, exact transport, linear sliding only.
-    SlidingExact = 3,
-    /// Objective, exact transport, linear sliding + EPSD rolling, no twisting.
-    SlidingRollingExact = 4,
-    /// LAMMPS_2021 preset, linear history sliding only.
-    SlidingLammps = 5,
-    /// LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
-    RollingTwistingLammps = 6,
-    /// Objective preset, exact transport: EPSD rolling (given k, gamma, damping always, length
-    /// form) + sds twisting, no sliding law.
-    RollingTwistingExact = 7,
-    /// LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
-    SlidingRollingLammps = 8,
-    /// LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall (the
-    /// twisting coefficients derived from the sliding ones and the contact radius).
-    FullLammpsMarshall = 9,
-    /// Objective preset, exact transport: linear sliding + EPSD rolling (as `FullExact`) +
-    /// twisting marshall (the twisting coefficients derived from the sliding ones and the
-    /// contact radius).
-    FullExactMarshall = 10,
-    /// Objective preset, exact transport: EPSD rolling only (as `FullExact`'s), no sliding or
-    /// twisting law: rolling resistance added to a host that computes its own normal and
-    /// tangential forces.
-    RollingExact = 11,
-    /// LAMMPS_2021 preset, project-rescale transport: EPSD rolling only (as `FullLammps`'s), no
-    /// sliding or twisting law: LAMMPS' `pair granular` rolling sds on a host that computes its
-    /// own normal and tangential forces.
-    RollingLammps = 12,
-    /// LAMMPS_2021 preset, project-rescale transport: twisting sds only, no sliding or rolling
-    /// law: LAMMPS' `pair granular` twisting sds on a host that computes its own normal and
-    /// tangential forces.
-    TwistingLammps = 13,
-    /// LAMMPS_2021 preset, project-rescale transport: linear history sliding + twisting sds, no
-    /// rolling law.
-    SlidingTwistingLammps = 14,
-    /// Objective preset, exact transport: twisting sds only (as `FullExact`'s), no sliding or
-    /// rolling law: twisting resistance added to a host that computes its own normal and
-    /// tangential forces.
-    TwistingExact = 15,
-    /// Objective preset, exact transport: linear sliding + twisting sds, no rolling law.
-    SlidingTwistingExact = 16,
+/// The table of specialised scenes, the list the library's per-scene code is made from (the
+/// `Scene` type, the fold, the batch kernels compiled, the per-contact steps):
+/// `with_scenes!(then, [extra tokens])` expands to `then! { [extra tokens] row row ... }`, one
+/// row per specialised scene (not `Generic`, code 0), in code order:
+///
+/// `{ #[doc = ...] Variant = code, "short name", (sliding, rolling, twisting law, family) }`
+///
+/// where `sliding` and `rolling` say whether the linear sliding law and the EPSD rolling law
+/// (given k, gamma, damping always, length form) are on, the twisting law is a [`TwistingLaw`]
+/// variant, and the family is [`EXACT`] or [`LAMMPS`] (see [`fold`]). A new scene is a new row
+/// here, plus what docs/performance.md (*Adding a scene*) lists as kept by hand: the
+/// `RSL_SCENE_*` constant (the header generator reads constants literally), a test model and
+/// the benchmark's rows.
+macro_rules! with_scenes {
+    ($then:ident, $extra:tt) => {
+        $then! { $extra
+            {
+                /// Objective preset, exact transport: linear sliding + EPSD rolling (given k,
+                /// gamma, damping always, length form) + sds twisting, no energy bookkeeping.
+                FullExact = 1, "full/exact", (true, true, Sds, EXACT)
+            }
+            {
+                /// LAMMPS_2021 preset (project-rescale transport): linear history + rolling sds
+                /// + twisting sds, the hand-written C baseline's physics.
+                FullLammps = 2, "full/lammps", (true, true, Sds, LAMMPS)
+            }
+            {
+                /// Objective, exact transport, linear sliding only.
+                SlidingExact = 3, "sliding/exact", (true, false, None, EXACT)
+            }
+            {
+                /// Objective, exact transport, linear sliding + EPSD rolling, no twisting.
+                SlidingRollingExact = 4, "slide+roll/exact", (true, true, None, EXACT)
+            }
+            {
+                /// LAMMPS_2021 preset, linear history sliding only.
+                SlidingLammps = 5, "sliding/lammps", (true, false, None, LAMMPS)
+            }
+            {
+                /// LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
+                RollingTwistingLammps = 6, "roll+twist/lammps", (false, true, Sds, LAMMPS)
+            }
+            {
+                /// Objective preset, exact transport: EPSD rolling (given k, gamma, damping
+                /// always, length form) + sds twisting, no sliding law.
+                RollingTwistingExact = 7, "roll+twist/exact", (false, true, Sds, EXACT)
+            }
+            {
+                /// LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
+                SlidingRollingLammps = 8, "slide+roll/lammps", (true, true, None, LAMMPS)
+            }
+            {
+                /// LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall
+                /// (the twisting coefficients derived from the sliding ones and the contact
+                /// radius).
+                FullLammpsMarshall = 9, "full/lammps+marshall", (true, true, Marshall, LAMMPS)
+            }
+            {
+                /// Objective preset, exact transport: linear sliding + EPSD rolling (as
+                /// `FullExact`) + twisting marshall (the twisting coefficients derived from the
+                /// sliding ones and the contact radius).
+                FullExactMarshall = 10, "full/exact+marshall", (true, true, Marshall, EXACT)
+            }
+            {
+                /// Objective preset, exact transport: EPSD rolling only (as `FullExact`'s), no
+                /// sliding or twisting law: rolling resistance added to a host that computes its
+                /// own normal and tangential forces.
+                RollingExact = 11, "roll/exact", (false, true, None, EXACT)
+            }
+            {
+                /// LAMMPS_2021 preset, project-rescale transport: EPSD rolling only (as
+                /// `FullLammps`'s), no sliding or twisting law: LAMMPS' `pair granular` rolling
+                /// sds on a host that computes its own normal and tangential forces.
+                RollingLammps = 12, "roll/lammps", (false, true, None, LAMMPS)
+            }
+            {
+                /// LAMMPS_2021 preset, project-rescale transport: twisting sds only, no sliding
+                /// or rolling law: LAMMPS' `pair granular` twisting sds on a host that computes
+                /// its own normal and tangential forces.
+                TwistingLammps = 13, "twist/lammps", (false, false, Sds, LAMMPS)
+            }
+            {
+                /// LAMMPS_2021 preset, project-rescale transport: linear history sliding +
+                /// twisting sds, no rolling law.
+                SlidingTwistingLammps = 14, "slide+twist/lammps", (true, false, Sds, LAMMPS)
+            }
+            {
+                /// Objective preset, exact transport: twisting sds only (as `FullExact`'s), no
+                /// sliding or rolling law: twisting resistance added to a host that computes its
+                /// own normal and tangential forces.
+                TwistingExact = 15, "twist/exact", (false, false, Sds, EXACT)
+            }
+            {
+                /// Objective preset, exact transport: linear sliding + twisting sds, no rolling
+                /// law.
+                SlidingTwistingExact = 16, "slide+twist/exact", (true, false, Sds, EXACT)
+            }
+        }
+    };
 }
+pub(crate) use with_scenes;
+
+/// The transports and preset of the objective scenes: exact transport of both springs.
+pub(crate) const EXACT: (Transport, Preset) = (Transport::Exact, Preset::Objective);
+/// The transports and preset of the LAMMPS scenes: project-rescale transport of both springs,
+/// the LAMMPS_2021 preset.
+pub(crate) const LAMMPS: (Transport, Preset) = (Transport::ProjectRescale, Preset::Lammps2021);
+
+/// The laws a scene fixes: whether the linear sliding law and the EPSD rolling law are on, the
+/// twisting law, and the transports and preset.
+type SceneLaws = (bool, bool, TwistingLaw, (Transport, Preset));
+
+/// `Scene`, its list, names, codes and laws from the rows of [`with_scenes`].
+macro_rules! define_scenes {
+    ([] $({
+        $(#[$doc:meta])* $scene:ident = $code:literal, $name:literal,
+        ($sliding:literal, $rolling:literal, $twisting:ident, $family:ident)
+    })*) => {
+        /// The specialised configurations (the const parameter `S` of the kernels is `Scene as
+        /// u8`).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        #[repr(u8)]
+        pub enum Scene {
+            /// Any model: decisions at run time.
+            Generic = 0,
+            $($(#[$doc])* $scene = $code,)*
+        }
+
+        impl Scene {
+            /// Every scene, in code order.
+            pub const ALL: [Scene; [0u8 $(, $code)*].len()] = [Scene::Generic $(, Scene::$scene)*];
+
+            /// A short name (benchmark tables).
+            pub fn name(self) -> &'static str {
+                match self {
+                    Scene::Generic => "generic",
+                    $(Scene::$scene => $name,)*
+                }
+            }
+
+            /// The scene of a code (`Generic` for an unknown one); a `const fn` so that a
+            /// kernel's const parameter names its scene at compile time.
+            #[inline(always)]
+            pub const fn from_code(code: u8) -> Scene {
+                match code {
+                    $($code => Scene::$scene,)*
+                    _ => Scene::Generic,
+                }
+            }
+
+            /// The laws the scene fixes (`None` for `Generic`, which fixes none).
+            #[inline(always)]
+            const fn laws(self) -> Option<SceneLaws> {
+                match self {
+                    Scene::Generic => None,
+                    $(Scene::$scene => Some(($sliding, $rolling, TwistingLaw::$twisting, $family)),)*
+                }
+            }
+        }
+    };
+}
+with_scenes!(define_scenes, []);
 
 impl Scene {
-    /// Every scene, in code order.
-    pub const ALL: [Scene; 17] = [
-        Scene::Generic,
-        Scene::FullExact,
-        Scene::FullLammps,
-        Scene::SlidingExact,
-        Scene::SlidingRollingExact,
-        Scene::SlidingLammps,
-        Scene::RollingTwistingLammps,
-        Scene::RollingTwistingExact,
-        Scene::SlidingRollingLammps,
-        Scene::FullLammpsMarshall,
-        Scene::FullExactMarshall,
-        Scene::RollingExact,
-        Scene::RollingLammps,
-        Scene::TwistingLammps,
-        Scene::SlidingTwistingLammps,
-        Scene::TwistingExact,
-        Scene::SlidingTwistingExact,
-    ];
-
-    /// A short name (benchmark tables).
-    pub fn name(self) -> &'static str {
-        match self {
-            Scene::Generic => "generic",
-            Scene::FullExact => "full/exact",
-            Scene::FullLammps => "full/lammps",
-            Scene::SlidingExact => "sliding/exact",
-            Scene::SlidingRollingExact => "slide+roll/exact",
-            Scene::SlidingLammps => "sliding/lammps",
-            Scene::RollingTwistingLammps => "roll+twist/lammps",
-            Scene::RollingTwistingExact => "roll+twist/exact",
-            Scene::SlidingRollingLammps => "slide+roll/lammps",
-            Scene::FullLammpsMarshall => "full/lammps+marshall",
-            Scene::FullExactMarshall => "full/exact+marshall",
-            Scene::RollingExact => "roll/exact",
-            Scene::RollingLammps => "roll/lammps",
-            Scene::TwistingLammps => "twist/lammps",
-            Scene::SlidingTwistingLammps => "slide+twist/lammps",
-            Scene::TwistingExact => "twist/exact",
-            Scene::SlidingTwistingExact => "slide+twist/exact",
-        }
-    }
-
-    /// The scene of a code (`Generic` for an unknown one); a `const fn` so that a kernel's
-    /// const parameter names its scene at compile time.
-    #[inline(always)]
-    pub const fn from_code(code: u8) -> Scene {
-        match code {
-            1 => Scene::FullExact,
-            2 => Scene::FullLammps,
-            3 => Scene::SlidingExact,
-            4 => Scene::SlidingRollingExact,
-            5 => Scene::SlidingLammps,
-            6 => Scene::RollingTwistingLammps,
-            7 => Scene::RollingTwistingExact,
-            8 => Scene::SlidingRollingLammps,
-            9 => Scene::FullLammpsMarshall,
-            10 => Scene::FullExactMarshall,
-            11 => Scene::RollingExact,
-            12 => Scene::RollingLammps,
-            13 => Scene::TwistingLammps,
-            14 => Scene::SlidingTwistingLammps,
-            15 => Scene::TwistingExact,
-            16 => Scene::SlidingTwistingExact,
-            _ => Scene::Generic,
-        }
-    }
-
     /// The most specialised scene whose constants equal `model`'s fields.
     pub fn classify(model: &Model) -> Scene {
         Scene::ALL
@@ -150,27 +189,8 @@ impl Scene {
 #[inline(always)]
 pub fn fold(scene: Scene, model: &Model) -> Model {
     let mut m = *model;
-    let exact = (Transport::Exact, Preset::Objective);
-    let lammps = (Transport::ProjectRescale, Preset::Lammps2021);
-    let sds = TwistingLaw::Sds;
-    let (sliding, rolling, twisting, (transport, preset)) = match scene {
-        Scene::Generic => return m,
-        Scene::FullExact => (true, true, sds, exact),
-        Scene::FullLammps => (true, true, sds, lammps),
-        Scene::SlidingExact => (true, false, TwistingLaw::None, exact),
-        Scene::SlidingRollingExact => (true, true, TwistingLaw::None, exact),
-        Scene::SlidingLammps => (true, false, TwistingLaw::None, lammps),
-        Scene::RollingTwistingLammps => (false, true, sds, lammps),
-        Scene::RollingTwistingExact => (false, true, sds, exact),
-        Scene::SlidingRollingLammps => (true, true, TwistingLaw::None, lammps),
-        Scene::FullLammpsMarshall => (true, true, TwistingLaw::Marshall, lammps),
-        Scene::FullExactMarshall => (true, true, TwistingLaw::Marshall, exact),
-        Scene::RollingExact => (false, true, TwistingLaw::None, exact),
-        Scene::RollingLammps => (false, true, TwistingLaw::None, lammps),
-        Scene::TwistingLammps => (false, false, sds, lammps),
-        Scene::SlidingTwistingLammps => (true, false, sds, lammps),
-        Scene::TwistingExact => (false, false, sds, exact),
-        Scene::SlidingTwistingExact => (true, false, sds, exact),
+    let Some((sliding, rolling, twisting, (transport, preset))) = scene.laws() else {
+        return m;
     };
     m.sliding.law = if sliding {
         SlidingLaw::Linear

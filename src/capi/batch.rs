@@ -29,6 +29,7 @@ use crate::batch::history::{
     history_layout, history_words, state_from_words as history_state_from_words, words_from_state,
     HistoryLayout, NO_SLIDING, SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS,
 };
+use crate::batch::scene::with_scenes;
 #[cfg(target_arch = "x86_64")]
 use crate::batch::GroupCopy;
 use crate::batch::{
@@ -714,6 +715,51 @@ macro_rules! by_kernel {
     };
 }
 
+/// [`by_kernel`] with every scene of the table ([`with_scenes`]) listed.
+macro_rules! by_kernel_of_every_scene {
+    ([$config:expr, $scene:expr, $access:expr, $args:tt] $({ $(#[$doc:meta])* $s:ident = $($row:tt)* })*) => {
+        by_kernel!($config, $scene, [$($s),*], $access, $args)
+    };
+}
+
+/// [`by_kernel`] with the scenes of the table ([`with_scenes`]) that have a sliding law or not
+/// (`true` or `false`) and are of one family (`LAMMPS` or `EXACT`): `[sliding family; config,
+/// scene, access, args]`. Those are the scenes whose models have one packed-history layout
+/// ([`history_layout`]: the sliding spring or not, the previous normal or not). The rows are
+/// taken one at a time (`@keep`), each kept or skipped, and the kernels of the kept ones run.
+macro_rules! by_kernel_of_scenes_with {
+    ([$($head:tt)*] $($rows:tt)*) => {
+        by_kernel_of_scenes_with!(@keep [$($head)*] [] $($rows)*)
+    };
+    (@keep [$sliding:tt $family:ident; $config:expr, $scene:expr, $access:expr, $args:tt]
+        [$($kept:ident)*]) => {
+        by_kernel!($config, $scene, [$($kept),*], $access, $args)
+    };
+    (@keep [true LAMMPS; $($call:tt)*] [$($kept:ident)*]
+        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, LAMMPS) }
+        $($rest:tt)*) => {
+        by_kernel_of_scenes_with!(@keep [true LAMMPS; $($call)*] [$($kept)* $s] $($rest)*)
+    };
+    (@keep [true EXACT; $($call:tt)*] [$($kept:ident)*]
+        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, EXACT) }
+        $($rest:tt)*) => {
+        by_kernel_of_scenes_with!(@keep [true EXACT; $($call)*] [$($kept)* $s] $($rest)*)
+    };
+    (@keep [false LAMMPS; $($call:tt)*] [$($kept:ident)*]
+        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, LAMMPS) }
+        $($rest:tt)*) => {
+        by_kernel_of_scenes_with!(@keep [false LAMMPS; $($call)*] [$($kept)* $s] $($rest)*)
+    };
+    (@keep [false EXACT; $($call:tt)*] [$($kept:ident)*]
+        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, EXACT) }
+        $($rest:tt)*) => {
+        by_kernel_of_scenes_with!(@keep [false EXACT; $($call)*] [$($kept)* $s] $($rest)*)
+    };
+    (@keep $head:tt [$($kept:ident)*] { $($row:tt)* } $($rest:tt)*) => {
+        by_kernel_of_scenes_with!(@keep $head [$($kept)*] $($rest)*)
+    };
+}
+
 #[cfg(target_arch = "x86_64")]
 use x86::{avx2_f32, avx2_f64, avx512_f32, avx512_f64};
 
@@ -755,29 +801,9 @@ pub fn run_step<A: CAccess>(
             "SIMD level not supported by this CPU".to_string(),
         ));
     }
-    let report = by_kernel!(
-        config,
-        scene,
-        [
-            FullExact,
-            FullLammps,
-            SlidingExact,
-            SlidingRollingExact,
-            SlidingLammps,
-            RollingTwistingLammps,
-            RollingTwistingExact,
-            SlidingRollingLammps,
-            FullLammpsMarshall,
-            FullExactMarshall,
-            RollingExact,
-            RollingLammps,
-            TwistingLammps,
-            SlidingTwistingLammps,
-            TwistingExact,
-            SlidingTwistingExact
-        ],
-        access,
-        (model, dt, access)
+    let report = with_scenes!(
+        by_kernel_of_every_scene,
+        [config, scene, access, (model, dt, access)]
     );
     Ok((report, scene))
 }
@@ -810,45 +836,21 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
         ));
     }
     let report = match (F, F + W) {
-        (0, SPRINGS_ONLY) => by_kernel!(
-            config,
-            scene,
-            [
-                FullLammps,
-                SlidingLammps,
-                SlidingRollingLammps,
-                FullLammpsMarshall,
-                SlidingTwistingLammps
-            ],
-            access,
-            (model, dt, access)
+        (0, SPRINGS_ONLY) => with_scenes!(
+            by_kernel_of_scenes_with,
+            [true LAMMPS; config, scene, access, (model, dt, access)]
         ),
-        (0, WITH_NORMAL) => by_kernel!(
-            config,
-            scene,
-            [
-                FullExact,
-                SlidingExact,
-                SlidingRollingExact,
-                FullExactMarshall,
-                SlidingTwistingExact
-            ],
-            access,
-            (model, dt, access)
+        (0, WITH_NORMAL) => with_scenes!(
+            by_kernel_of_scenes_with,
+            [true EXACT; config, scene, access, (model, dt, access)]
         ),
-        (NO_SLIDING, SPRINGS_ONLY) => by_kernel!(
-            config,
-            scene,
-            [RollingTwistingLammps, RollingLammps, TwistingLammps],
-            access,
-            (model, dt, access)
+        (NO_SLIDING, SPRINGS_ONLY) => with_scenes!(
+            by_kernel_of_scenes_with,
+            [false LAMMPS; config, scene, access, (model, dt, access)]
         ),
-        (NO_SLIDING, WITH_NORMAL) => by_kernel!(
-            config,
-            scene,
-            [RollingTwistingExact, RollingExact, TwistingExact],
-            access,
-            (model, dt, access)
+        (NO_SLIDING, WITH_NORMAL) => with_scenes!(
+            by_kernel_of_scenes_with,
+            [false EXACT; config, scene, access, (model, dt, access)]
         ),
         _ => by_kernel!(config, scene, [], access, (model, dt, access)),
     };

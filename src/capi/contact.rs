@@ -10,7 +10,7 @@ use super::model::live_model;
 use super::status::FfiError;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{checked_pointer, guard, guard_status, input, output};
-use crate::batch::scene::fold;
+use crate::batch::scene::{fold, with_scenes};
 use crate::batch::Scene;
 use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
@@ -604,13 +604,18 @@ pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
     scene_steps(avx2)[scene as usize]
 }
 
-/// `[f::<0>, ..., f::<16>]`: a step function for each scene code.
+/// `[f::<0>, f::<code>...]`: a step function for each scene code, in code order (the rows of
+/// [`with_scenes`]).
+macro_rules! per_scene_array {
+    ([$f:ident] $({ $(#[$doc:meta])* $scene:ident = $code:literal, $($row:tt)* })*) => {
+        [$f::<0> $(, $f::<$code>)*]
+    };
+}
+
+/// [`per_scene_array`] over every scene.
 macro_rules! per_scene {
     ($f:ident) => {
-        [
-            $f::<0>, $f::<1>, $f::<2>, $f::<3>, $f::<4>, $f::<5>, $f::<6>, $f::<7>, $f::<8>,
-            $f::<9>, $f::<10>, $f::<11>, $f::<12>, $f::<13>, $f::<14>, $f::<15>, $f::<16>,
-        ]
+        with_scenes!(per_scene_array, [$f])
     };
 }
 

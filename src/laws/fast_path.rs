@@ -10,7 +10,7 @@
 //! and any non-finite result, goes to the checked step, which returns the precise error (or,
 //! for inputs the quick test is stricter about than the checked step, the result).
 
-use crate::batch::scene::{fold, Scene};
+use crate::batch::scene::{fold, with_scenes, Scene};
 use crate::decompose::Sphere;
 use crate::error::Error;
 use crate::geometry::{pair_geometry_in_range, pair_geometry_unchecked, ContactGeometry};
@@ -258,6 +258,17 @@ pub fn try_step_pair<const S: u8>(
     scene_outputs_finite::<S>(model, &out, &next).then_some((out, next))
 }
 
+/// `try_step_pair::<code of $scene>$args`, the scene a run-time value: one arm per row of
+/// [`with_scenes`], and the generic step for `Scene::Generic`.
+macro_rules! try_step_pair_of_scene {
+    ([$scene:expr, $args:tt] $({ $(#[$doc:meta])* $s:ident = $code:literal, $($row:tt)* })*) => {
+        match $scene {
+            Scene::Generic => try_step_pair::<0> $args,
+            $(Scene::$s => try_step_pair::<$code> $args,)*
+        }
+    };
+}
+
 /// One checked step of a sphere pair, as [`contact_step_pair`] (same results, same errors,
 /// `state` written only on success), faster: `scene` must be [`Scene::classify`] of `model`.
 /// Inputs with overrides, a limit force or the setup pass go straight to the checked step.
@@ -271,25 +282,10 @@ pub fn contact_step_pair_fast(
     state: &mut ContactState<f64>,
 ) -> Result<StepOutput<f64>, Error> {
     if plain(input) {
-        let fast = match scene {
-            Scene::Generic => try_step_pair::<0>(model, body1, body2, input, state),
-            Scene::FullExact => try_step_pair::<1>(model, body1, body2, input, state),
-            Scene::FullLammps => try_step_pair::<2>(model, body1, body2, input, state),
-            Scene::SlidingExact => try_step_pair::<3>(model, body1, body2, input, state),
-            Scene::SlidingRollingExact => try_step_pair::<4>(model, body1, body2, input, state),
-            Scene::SlidingLammps => try_step_pair::<5>(model, body1, body2, input, state),
-            Scene::RollingTwistingLammps => try_step_pair::<6>(model, body1, body2, input, state),
-            Scene::RollingTwistingExact => try_step_pair::<7>(model, body1, body2, input, state),
-            Scene::SlidingRollingLammps => try_step_pair::<8>(model, body1, body2, input, state),
-            Scene::FullLammpsMarshall => try_step_pair::<9>(model, body1, body2, input, state),
-            Scene::FullExactMarshall => try_step_pair::<10>(model, body1, body2, input, state),
-            Scene::RollingExact => try_step_pair::<11>(model, body1, body2, input, state),
-            Scene::RollingLammps => try_step_pair::<12>(model, body1, body2, input, state),
-            Scene::TwistingLammps => try_step_pair::<13>(model, body1, body2, input, state),
-            Scene::SlidingTwistingLammps => try_step_pair::<14>(model, body1, body2, input, state),
-            Scene::TwistingExact => try_step_pair::<15>(model, body1, body2, input, state),
-            Scene::SlidingTwistingExact => try_step_pair::<16>(model, body1, body2, input, state),
-        };
+        let fast = with_scenes!(
+            try_step_pair_of_scene,
+            [scene, (model, body1, body2, input, state)]
+        );
         if let Some((out, next)) = fast {
             *state = next;
             return Ok(out);
