@@ -13,11 +13,12 @@
 # says what is missing and exits 0 without them. Builds into target/aarch64.
 #
 # The tests run in the optimised `stress` profile (opt-level 3, with the debug assertions and
-# overflow checks of the `test` profile): the code an aarch64 user runs, with every check the
-# unoptimised tests have, and unoptimised code is what x86-64's `cargo test` already runs. On
-# the 2-core Zen 3 host of docs/performance.md the unoptimised batch test took 1,680 s under
-# emulation (28 of the stage's 32 minutes); in this profile the tests build in about 2 minutes
-# and all of them run in 35 s (the batch test 30 s): the whole script took 3m04s there.
+# overflow checks of the `test` profile): optimised code, as an aarch64 user runs it, with every
+# check the unoptimised tests have; unoptimised code is what x86-64's `cargo test` runs. On the
+# 2-core Zen 3 host of docs/performance.md, the same day: unoptimised, the script took 1,332 s,
+# of which the batch test under emulation 1,193 s (1,680 s on a slower day); in this profile
+# 184-189 s (clippy 26 s, the optimised build of the tests 2m04s, all the tests 35 s, the batch
+# test 30-31 s).
 set -eu
 cd "$(dirname "$0")/.."
 target=aarch64-unknown-linux-gnu
