@@ -119,7 +119,9 @@
  *                   (twisting marshall), generic(full/lammps+marshall), full/exact+marshall,
  *                   generic(full/exact+marshall), slide+twist/lammps (no rolling law),
  *                   generic(slide+twist/lammps), slide+twist/exact,
- *                   generic(slide+twist/exact) (group full),
+ *                   generic(slide+twist/exact), slide+cdt/liggghts (LIGGGHTS_3_8 preset:
+ *                   linear sliding + cdt rolling on k_n delta, k_n passed per contact),
+ *                   generic(slide+cdt/liggghts) (group full),
  *                   roll+twist/exact, generic(rolltwist), roll/exact, roll/lammps (rolling
  *                   only: no twisting law), generic(roll/lammps), twist/lammps (twisting
  *                   only: no sliding or rolling law), generic(twist/lammps), twist/exact,
@@ -149,6 +151,7 @@ typedef struct {
     rsl_sphere *p;
     uint32_t *pairs;
     double *fn;
+    double *kn; /* k_n per contact (KN), read only by the models that need it (LIGGGHTS' cdt) */
     rsl_contact_state *st0, *st;
     rsl_contact_state *st0_slip, *st0_noslip; /* st0 points to one of them */
     rsl_vec3 *f, *t;
@@ -408,6 +411,7 @@ static void finish(scene *s) {
     size_t nc = s->nc, np = s->np;
     const uint32_t *pairs = s->pairs;
     s->fn = xmalloc(nc * sizeof(double));
+    s->kn = xmalloc(nc * sizeof(double));
     s->st0_slip = xcalloc(nc, sizeof *s->st0_slip);
     s->st0_noslip = xcalloc(nc, sizeof *s->st0_noslip);
     s->st0 = s->st0_slip;
@@ -430,6 +434,7 @@ static void finish(scene *s) {
             exit(1);
         }
         s->fn[c] = fn;
+        s->kn[c] = KN;
         s->b1[c] = *p1;
         s->b2[c] = *p2;
         /* previous normal tilted by ~1e-3; springs tangent to it */
@@ -900,22 +905,22 @@ static void batch(scene *s) {
     const char *what;
     if (MODE == HISTORY) {
         what = "rsl_batch_step_history";
-        status = rsl_batch_step_history(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, NULL, DT,
+        status = rsl_batch_step_history(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, s->kn, DT,
                                         &OPTS, HIST, s->f, s->t, &REP);
     } else if (MODE == INDEXED) {
         what = "rsl_batch_step_indexed";
-        status = rsl_batch_step_indexed(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, NULL, NULL,
+        status = rsl_batch_step_indexed(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, s->kn, NULL,
                                         DT, &OPTS, IST, NSTATES, IDX, s->f, s->t, &REP);
     } else if (MODE == DECOMPOSE) {
         what = "rsl_batch_decompose";
         status = rsl_batch_decompose(s->p, s->np, s->pairs, s->nc, NULL, &OPTS, s->dec, &REP);
     } else if (MODE == CONTACT_MAJOR) {
         what = "rsl_batch_step_contacts";
-        status = rsl_batch_step_contacts(MODEL, s->b1, s->b2, s->nc, s->fn, NULL, DT, &OPTS,
+        status = rsl_batch_step_contacts(MODEL, s->b1, s->b2, s->nc, s->fn, s->kn, DT, &OPTS,
                                          s->st, s->loads, &REP);
     } else {
         what = "rsl_batch_step";
-        status = rsl_batch_step(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, NULL, DT, &OPTS,
+        status = rsl_batch_step(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, s->kn, DT, &OPTS,
                                 s->st, s->f, s->t, &REP);
     }
     if (status != RSL_OK) {
@@ -1147,6 +1152,21 @@ static rsl_model *make_model(int32_t preset, int sliding, int rolling, int twist
     return m;
 }
 
+/* LIGGGHTS' `tangential history rolling_friction cdt`: linear sliding (KT, GT, MU) and the cdt
+ * moment eta k_n delta, eta = MUR times the radius (0.5), above a relative spin of 0.5 rad/s. */
+static rsl_model *make_cdt_model(void) {
+    rsl_model *m = NULL;
+    check(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), "rsl_model_new(LIGGGHTS)");
+    check(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, KT, GT, MU), "rsl_model_set_sliding");
+    rsl_rolling_params rp;
+    check(rsl_model_get_rolling(m, &rp), "rsl_model_get_rolling");
+    rp.law = RSL_ROLLING_CDT;
+    rp.friction = MUR * 0.5;
+    rp.rate_threshold = 0.5;
+    check(rsl_model_set_rolling(m, &rp), "rsl_model_set_rolling(cdt)");
+    return m;
+}
+
 static const char *LEVEL[4] = {"auto", "scalar", "avx2", "avx512"};
 /* --level=NAME: the SIMD level of the rows that otherwise run at the best one. */
 static uint32_t BEST_LEVEL = RSL_SIMD_AUTO;
@@ -1223,7 +1243,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 29 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 31 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1248,7 +1268,8 @@ int main(int argc, char **argv) {
               *twist_lammps = make_model(RSL_PRESET_LAMMPS_2021, 0, 0, 1),
               *slide_twist_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 0, 1),
               *twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 0, 1),
-              *slide_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 1);
+              *slide_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 1),
+              *slide_cdt_liggghts = make_cdt_model();
     /* other scenes (workload A), each in the group whose floor and baseline it is set against;
      * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
@@ -1272,6 +1293,8 @@ int main(int argc, char **argv) {
         {"generic(slide+twist/lammps)", slide_twist_lammps, RSL_BATCH_GENERIC, FULL},
         {"slide+twist/exact", slide_twist_exact, 0, FULL},
         {"generic(slide+twist/exact)", slide_twist_exact, RSL_BATCH_GENERIC, FULL},
+        {"slide+cdt/liggghts", slide_cdt_liggghts, 0, FULL},
+        {"generic(slide+cdt/liggghts)", slide_cdt_liggghts, RSL_BATCH_GENERIC, FULL},
         {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
         {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},

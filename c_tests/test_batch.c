@@ -293,6 +293,110 @@ void test_batch_packed_histories(void) {
     }
 }
 
+/* LIGGGHTS' `tangential history rolling_friction cdt` has its scene kernel
+ * (RSL_SCENE_SLIDING_CDT_LIGGGHTS): every batch call (state structs and packed histories, every
+ * SIMD level, double) equals per-contact rsl_contact_step bit for bit; the cdt moment is at most
+ * eta k_n delta; without the per-contact k_n the call is refused and writes nothing. */
+void test_batch_liggghts_cdt_scene(void) {
+    rsl_sphere p[NP];
+    uint32_t pairs[2 * NC];
+    double fn[NC], kn[NC];
+    scene(p, pairs, fn);
+    for (int c = 0; c < NC; c++) kn[c] = 1e6 + 1e4 * c;
+    rsl_model *m = NULL;
+    CHECK_STATUS(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), RSL_OK);
+    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
+    rsl_rolling_params rp;
+    CHECK_STATUS(rsl_model_get_rolling(m, &rp), RSL_OK);
+    rp.law = RSL_ROLLING_CDT;
+    rp.friction = 0.05; /* eta (angle form): a length */
+    rp.rate_threshold = 0.1;
+    CHECK_STATUS(rsl_model_set_rolling(m, &rp), RSL_OK);
+    uint32_t code = 99;
+    CHECK_STATUS(rsl_batch_scene(m, &code), RSL_OK);
+    CHECK(code == RSL_SCENE_SLIDING_CDT_LIGGGHTS);
+    const double dt = 1e-4;
+    /* Reference: two per-contact steps from zero histories, the second's loads summed. */
+    rsl_vec3 fr[NP], tr[NP];
+    memset(fr, 0, sizeof fr);
+    memset(tr, 0, sizeof tr);
+    rsl_contact_state sr[NC];
+    memset(sr, 0, sizeof sr);
+    int turning = 0;
+    for (int step = 0; step < 2; step++)
+        for (int c = 0; c < NC; c++) {
+            rsl_contact_input in;
+            memset(&in, 0, sizeof in);
+            in.normal_force = fn[c];
+            in.normal_stiffness = kn[c];
+            in.dt = dt;
+            uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
+            rsl_contact_loads l;
+            CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &l), RSL_OK);
+            rsl_vec3 d = {p[j].position.x - p[i].position.x, p[j].position.y - p[i].position.y,
+                          p[j].position.z - p[i].position.z};
+            double delta = 1.0 - sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+            double mr = sqrt(l.rolling_moment.x * l.rolling_moment.x +
+                             l.rolling_moment.y * l.rolling_moment.y +
+                             l.rolling_moment.z * l.rolling_moment.z);
+            CHECK(mr <= 0.05 * kn[c] * delta * (1 + 1e-12));
+            turning += mr > 0;
+            if (step == 0) continue;
+            fr[i].x += l.force1.x, fr[i].y += l.force1.y, fr[i].z += l.force1.z;
+            fr[j].x -= l.force1.x, fr[j].y -= l.force1.y, fr[j].z -= l.force1.z;
+            tr[i].x += l.torque1.x, tr[i].y += l.torque1.y, tr[i].z += l.torque1.z;
+            tr[j].x += l.torque2.x, tr[j].y += l.torque2.y, tr[j].z += l.torque2.z;
+        }
+    CHECK(turning > 0);
+    uint32_t support = rsl_batch_simd_support();
+    for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
+        if (!((support >> lv) & 1)) continue;
+        rsl_batch_options o;
+        memset(&o, 0, sizeof o);
+        o.simd = lv;
+        rsl_vec3 f[NP], t[NP], fh[NP], th[NP];
+        rsl_contact_state s[NC];
+        double h[NC * 7];
+        memset(s, 0, sizeof s);
+        memset(h, 0, sizeof h);
+        size_t words = 0;
+        CHECK_STATUS(rsl_model_history_size(m, &words), RSL_OK);
+        CHECK(words == 7);
+        rsl_batch_report rep, reph;
+        for (int step = 0; step < 2; step++) {
+            memset(f, 0, sizeof f);
+            memset(t, 0, sizeof t);
+            memset(fh, 0, sizeof fh);
+            memset(th, 0, sizeof th);
+            CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, kn, dt, &o, s, f, t, &rep),
+                         RSL_OK);
+            CHECK_STATUS(rsl_batch_step_history(m, p, NP, pairs, NC, fn, kn, dt, &o, h, fh, th,
+                                                &reph),
+                         RSL_OK);
+        }
+        CHECK(rep.processed == NC && rep.scene == RSL_SCENE_SLIDING_CDT_LIGGGHTS);
+        CHECK(reph.processed == NC && reph.scene == RSL_SCENE_SLIDING_CDT_LIGGGHTS);
+        for (int i = 0; i < NP; i++) {
+            CHECK_VEC(f[i], fr[i].x, fr[i].y, fr[i].z, 0.0);
+            CHECK_VEC(t[i], tr[i].x, tr[i].y, tr[i].z, 0.0);
+        }
+        CHECK(memcmp(f, fh, sizeof f) == 0 && memcmp(t, th, sizeof t) == 0);
+        for (int c = 0; c < NC; c++)
+            CHECK_VEC(s[c].sliding_spring, sr[c].sliding_spring.x, sr[c].sliding_spring.y,
+                      sr[c].sliding_spring.z, 0.0);
+        /* no k_n: refused, nothing written */
+        rsl_contact_state before[NC];
+        memcpy(before, s, sizeof s);
+        rsl_vec3 f0[NP];
+        memcpy(f0, f, sizeof f);
+        CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, dt, &o, s, f, t, &rep),
+                     RSL_ERR_NULL_POINTER);
+        CHECK(rep.processed == 0);
+        CHECK(memcmp(before, s, sizeof s) == 0 && memcmp(f0, f, sizeof f) == 0);
+    }
+    rsl_model_free(m);
+}
+
 /* rsl_batch_step_contacts_params: per-contact k_t and gamma_t equal to rsl_contact_step with
  * RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING, bit for bit in double; a negative
  * k_t skips its contact with rsl_contact_step's status; NULL params is the plain call. */

@@ -113,6 +113,12 @@
 // law).
 #define RSL_SCENE_SLIDING_TWISTING_EXACT 16
 
+// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction cdt`), linear
+// sliding (projected, no rescale) + the cdt rolling law (`RSL_ROLLING_CDT`, either form, on
+// the elastic normal force `k_n delta`: the call needs `normal_stiffness`), no twisting law.
+// The length form gives each contact LIGGGHTS' moment `mu_r R_eff k_n delta` from one `mu_r`.
+#define RSL_SCENE_SLIDING_CDT_LIGGGHTS 17
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

@@ -31,8 +31,8 @@ fn v(x: rollslide::scalar::Vec3<f64>) -> rsl_vec3 {
     }
 }
 
-/// The models of every scene kernel, one of them without limits, plus three that run the
-/// generic kernel.
+/// The models of every scene kernel, one of them without limits and one in the other rolling
+/// form, plus three that run the generic kernel.
 fn models() -> Vec<(Model, Scene)> {
     let full = full_model(Preset::Objective, Transport::Exact);
     let mut yade = full_model(Preset::Yade2023, Transport::FirstOrder);
@@ -60,6 +60,16 @@ fn models() -> Vec<(Model, Scene)> {
     unlimited.twisting.friction = f64::INFINITY;
     unlimited.validate().unwrap();
     let mut models = scene_models();
+    // LIGGGHTS' cdt in the length form (the moment mu_r R_r k_n delta): the scene keeps the
+    // form a run-time choice.
+    let mut cdt_length = models
+        .iter()
+        .find(|(_, s)| *s == Scene::SlidingCdtLiggghts)
+        .unwrap()
+        .0;
+    cdt_length.rolling.form = rollslide::laws::model::RollingForm::Length;
+    cdt_length.rolling.friction = 0.1;
+    models.push((cdt_length, Scene::SlidingCdtLiggghts));
     models.push((unlimited, Scene::FullExact));
     models.push((yade, Scene::Generic));
     models.push((viscous, Scene::Generic));
@@ -76,6 +86,8 @@ struct Scenario {
     particles: Vec<rsl_sphere>,
     pairs: Vec<[u32; 2]>,
     normal_force: Vec<f64>,
+    /// `k_n` per contact, read only by the models that need it (LIGGGHTS' cdt).
+    normal_stiffness: Vec<f64>,
     states: Vec<rsl_contact_state>,
 }
 
@@ -139,10 +151,12 @@ fn scenario(np: usize, nc: usize, seed: u64) -> Scenario {
             s
         })
         .collect();
+    let normal_stiffness = (0..nc).map(|_| rng.uniform(5e5, 2e6)).collect();
     Scenario {
         particles,
         pairs,
         normal_force,
+        normal_stiffness,
         states,
     }
 }
@@ -154,6 +168,7 @@ fn sort_by_body1(sc: &mut Scenario) {
     order.sort_by_key(|&c| sc.pairs[c][0]);
     sc.pairs = order.iter().map(|&c| sc.pairs[c]).collect();
     sc.normal_force = order.iter().map(|&c| sc.normal_force[c]).collect();
+    sc.normal_stiffness = order.iter().map(|&c| sc.normal_stiffness[c]).collect();
     sc.states = order.iter().map(|&c| sc.states[c]).collect();
 }
 
@@ -196,13 +211,9 @@ fn reference(model: &Model, sc: &Scenario, dt: f64) -> (Vec<Loads>, Vec<ContactS
         let b1 = Sphere::from(&sc.particles[*i as usize]);
         let b2 = Sphere::from(&sc.particles[*j as usize]);
         let mut s = ContactState::from(&sc.states[c]);
-        let r = contact_step_pair(
-            model,
-            &b1,
-            &b2,
-            &StepInput::new(sc.normal_force[c], dt),
-            &mut s,
-        );
+        let mut input = StepInput::new(sc.normal_force[c], dt);
+        input.normal_stiffness = sc.normal_stiffness[c];
+        let r = contact_step_pair(model, &b1, &b2, &input, &mut s);
         loads.push(
             r.ok()
                 .map(|o| [o.loads.force1, o.loads.torque1, o.loads.torque2]),
@@ -240,7 +251,7 @@ fn contact_major_matches_per_contact_step() {
                 body1: &body1,
                 body2: &body2,
                 normal_force: &sc.normal_force,
-                normal_stiffness: None,
+                normal_stiffness: Some(&sc.normal_stiffness),
                 states: &mut states,
                 out: &mut out,
                 sliding: SlidingOverrides::NONE,
@@ -319,7 +330,7 @@ fn particle_major_accumulates_per_contact_loads() {
             particles: &sc.particles,
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness),
             states: &mut states[..],
             force: &mut force,
             torque: &mut torque,
@@ -406,7 +417,7 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
             particles: &sc.particles,
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness),
             states: &mut states[..],
             force: &mut force,
             torque: &mut torque,
@@ -448,7 +459,7 @@ fn particle_major_in_calls<O: SlidingSource>(
             particles: &sc.particles,
             pairs: &sc.pairs[c0..c1],
             normal_force: &sc.normal_force[c0..c1],
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness[c0..c1]),
             states: &mut states[c0..c1],
             force: &mut force,
             torque: &mut torque,
@@ -486,7 +497,7 @@ fn contact_major_in_calls<'a>(
             body1: &body1[c0..c1],
             body2: &body2[c0..c1],
             normal_force: &sc.normal_force[c0..c1],
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness[c0..c1]),
             states: &mut states[c0..c1],
             out: &mut out[c0..c1],
             sliding: sliding(c0, c1),
@@ -571,7 +582,7 @@ fn repeated_steps_scalar_and_simd_agree() {
                 particles: &particles,
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
-                normal_stiffness: None,
+                normal_stiffness: Some(&sc.normal_stiffness),
                 states: &mut states[..],
                 force: &mut force,
                 torque: &mut torque,
@@ -661,7 +672,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             particles: &sc.particles,
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness),
             states: &mut states[..],
             force: &mut vec![rsl_vec3::default(); sc.particles.len()],
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
@@ -692,7 +703,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             body1: &body1,
             body2: &body2,
             normal_force: &sc.normal_force,
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness),
             states: &mut states,
             out: &mut out,
             sliding: SlidingOverrides::NONE,
@@ -721,7 +732,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             particles: &sc.particles,
             pairs: &pairs,
             normal_force: &sc.normal_force[c..c + 1],
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness[c..c + 1]),
             states: &mut states[..],
             force: &mut vec![rsl_vec3::default(); sc.particles.len()],
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
@@ -748,7 +759,7 @@ fn call_level_errors_process_nothing() {
         particles: &sc.particles,
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
-        normal_stiffness: None,
+        normal_stiffness: Some(&sc.normal_stiffness),
         states: &mut states[..],
         force: &mut force,
         torque: &mut torque,
@@ -852,7 +863,7 @@ fn underflowing_centre_distance_is_refused_in_every_kernel() {
             body1: &body1,
             body2: &body2,
             normal_force: &sc.normal_force,
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness),
             states: &mut states,
             out: &mut out,
             sliding: SlidingOverrides::NONE,
@@ -918,7 +929,7 @@ fn packed_histories_step_as_full_states() {
                 particles: &sc.particles,
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
-                normal_stiffness: None,
+                normal_stiffness: Some(&sc.normal_stiffness),
                 states: &mut states[..],
                 force: &mut force,
                 torque: &mut torque,
@@ -991,7 +1002,7 @@ fn step_packed<const W: usize, const F: usize>(
         particles: &sc.particles,
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
-        normal_stiffness: None,
+        normal_stiffness: Some(&sc.normal_stiffness),
         states: &mut records[..],
         force: &mut force,
         torque: &mut torque,
@@ -1039,6 +1050,7 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
             let mut first_error = None;
             for c in 0..n {
                 let mut input = StepInput::new(sc.normal_force[c], dt);
+                input.normal_stiffness = sc.normal_stiffness[c];
                 (input.sliding_stiffness, input.sliding_damping) = sliding.at(c);
                 let mut s = ContactState::from(&sc.states[c]);
                 let r = contact_step_pair(
@@ -1061,7 +1073,7 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
                     body1: &body1,
                     body2: &body2,
                     normal_force: &sc.normal_force,
-                    normal_stiffness: None,
+                    normal_stiffness: Some(&sc.normal_stiffness),
                     states: &mut states,
                     out: &mut out,
                     sliding,
@@ -1141,7 +1153,7 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
                     body1: &body1,
                     body2: &body2,
                     normal_force: &sc.normal_force,
-                    normal_stiffness: None,
+                    normal_stiffness: Some(&sc.normal_stiffness),
                     states: &mut want_states,
                     out: &mut out,
                     sliding,
@@ -1175,7 +1187,7 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
                     particles: &sc.particles,
                     pairs: &sc.pairs,
                     normal_force: &sc.normal_force,
-                    normal_stiffness: None,
+                    normal_stiffness: Some(&sc.normal_stiffness),
                     states: &mut states[..],
                     force: &mut force,
                     torque: &mut torque,
@@ -1230,7 +1242,7 @@ fn chunks_of_a_large_scene_count_only_the_particles_they_reach() {
             particles: &sc.particles,
             pairs: &sc.pairs[..contacts],
             normal_force: &sc.normal_force[..contacts],
-            normal_stiffness: None,
+            normal_stiffness: Some(&sc.normal_stiffness[..contacts]),
             states: &mut states[..contacts],
             force: &mut force,
             torque: &mut torque,
@@ -1287,7 +1299,7 @@ fn step_with_states<St: ContactStates<Slot = rsl_contact_state>>(
                 particles: &sc.particles,
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
-                normal_stiffness: None,
+                normal_stiffness: Some(&sc.normal_stiffness),
                 states,
                 force: &mut force,
                 torque: &mut torque,
@@ -1429,7 +1441,7 @@ fn indexed_states_refuse_bad_indices() {
         particles: &sc.particles,
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
-        normal_stiffness: None,
+        normal_stiffness: Some(&sc.normal_stiffness),
         states,
         force: &mut force,
         torque: &mut torque,

@@ -121,3 +121,156 @@ fn liggghts_3_8_preset_reproduces_liggghts_step_by_step() {
         );
     }
 }
+
+/// `rsl_vec3` of a vector.
+fn c_vec(x: &rollslide::scalar::Vec3<f64>) -> rollslide::capi::types::rsl_vec3 {
+    rollslide::capi::types::rsl_vec3 {
+        x: x.x,
+        y: x.y,
+        z: x.z,
+    }
+}
+
+/// The batch call's scene kernel for LIGGGHTS' `tangential history rolling_friction cdt`
+/// (`slide+cdt/liggghts`) against LIGGGHTS-PUBLIC 3.8.0: every step of the reference's cdt cases
+/// without `torsionTorque` (that switch runs the generic kernel), through the contact-major batch
+/// call at every SIMD level the CPU has, with the host's per-contact `k_t`, `gamma_t` and `k_n`
+/// as above. The batch takes no per-contact `eta`, so the model is in the length form with
+/// LIGGGHTS' `mu_r`: the moment `mu_r R_r f` with the rolling radius `R_eff`, LIGGGHTS'
+/// `mu_r R_eff k_n delta`. The setup pass (step 0), which the batch does not make, goes through
+/// the per-contact step. Same tolerance as the per-contact test above.
+#[test]
+fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
+    use rollslide::batch::{ContactSteps, Scene, SlidingOverrides};
+    use rollslide::capi::batch::{rsl_batch_loads, run_step, BatchConfig, Simd};
+    use rollslide::capi::contact::rsl_contact_state;
+    use rollslide::capi::types::rsl_sphere;
+
+    let dir = root().join("tests/reference/liggghts");
+    let cases = load_cases(&dir.join("liggghts_reference.csv"));
+    let mut checked = 0;
+    for (name, rows) in &cases {
+        let params = load_json(&dir.join(format!("params/{name}.json")));
+        if params["rolling_friction"].as_str() != Some("cdt")
+            || params["torsion_torque"].as_bool().unwrap_or(false)
+        {
+            continue;
+        }
+        let mat = &params["materials"];
+        let f = |k: &str| mat[k].as_f64().unwrap();
+        let (young, poisson) = (f("youngsModulus"), f("poissonsRatio"));
+        let y_eff = young / (2.0 * (1.0 - poisson * poisson));
+        let g_eff = young / (4.0 * (2.0 - poisson) * (1.0 + poisson));
+        let ln_e = f("coefficientRestitution").ln();
+        let beta = ln_e / (ln_e * ln_e + std::f64::consts::PI.powi(2)).sqrt();
+        let mut model = Model::with_preset(Preset::Liggghts38);
+        model.sliding = SlidingParams {
+            law: SlidingLaw::Linear,
+            stiffness: 0.0,
+            damping: 0.0,
+            friction: f("coefficientFriction"),
+        };
+        model.rolling.law = RollingLaw::Cdt;
+        model.rolling.form = RollingForm::Length;
+        model.rolling.friction = f("coefficientRollingFriction");
+        model.validate().unwrap();
+        assert_eq!(Scene::classify(&model), Scene::SlidingCdtLiggghts);
+        let dt = params["dt"].as_f64().unwrap();
+        for simd in [Simd::Scalar, Simd::Avx2, Simd::Avx512] {
+            if !simd.available() {
+                continue;
+            }
+            let config = BatchConfig {
+                f32: false,
+                simd,
+                specialise: true,
+            };
+            let mut state = rsl_contact_state::default();
+            let (mut worst, mut at, mut scale) = (0.0f64, 0usize, 1e-300f64);
+            for row in rows {
+                let step = row.f("step") as usize;
+                let sphere = |k: &str| Sphere {
+                    position: row.v(&format!("{{}}{k}")),
+                    velocity: row.v(&format!("v{k}{{}}")),
+                    angular_velocity: row.v(&format!("w{k}{{}}")),
+                    radius: row.f(&format!("r{k}")),
+                };
+                let (b1, b2) = (sphere("1"), sphere("2"));
+                let (m1, m2) = (row.f("m1"), row.f("m2"));
+                let r_eff = b1.radius * b2.radius / (b1.radius + b2.radius);
+                let delta = b1.radius + b2.radius - (b2.position - b1.position).norm();
+                let root_rd = (r_eff * delta).sqrt();
+                let k_n = 4.0 / 3.0 * y_eff * root_rd;
+                let k_t = 8.0 * g_eff * root_rd;
+                let m_eff = m1 * m2 / (m1 + m2);
+                let gamma_t = -2.0 * (5.0f64 / 6.0).sqrt() * beta * (k_t * m_eff).sqrt();
+                let (force1, torque1, torque2) = if step == 0 {
+                    let mut input = StepInput::new(row.f("fn"), dt);
+                    input.normal_stiffness = k_n;
+                    input.sliding_stiffness = Some(k_t);
+                    input.sliding_damping = Some(gamma_t);
+                    input.setup = true;
+                    let mut s = ContactState::from(&state);
+                    let out = contact_step_pair(&model, &b1, &b2, &input, &mut s).unwrap();
+                    state.sliding_spring = c_vec(&s.sliding_spring);
+                    state.rolling_spring = c_vec(&s.rolling_spring);
+                    state.twisting_angle = s.twisting_angle;
+                    state.twisting_offaxis = c_vec(&s.twisting_offaxis);
+                    state.previous_normal = c_vec(&s.previous_normal);
+                    (out.loads.force1, out.loads.torque1, out.loads.torque2)
+                } else {
+                    let c_sphere = |b: &Sphere<f64>| rsl_sphere {
+                        position: c_vec(&b.position),
+                        velocity: c_vec(&b.velocity),
+                        angular_velocity: c_vec(&b.angular_velocity),
+                        radius: b.radius,
+                    };
+                    let mut out = [rsl_batch_loads::default()];
+                    let mut states = [state];
+                    let mut access = ContactSteps {
+                        body1: &[c_sphere(&b1)],
+                        body2: &[c_sphere(&b2)],
+                        normal_force: &[row.f("fn")],
+                        normal_stiffness: Some(&[k_n]),
+                        states: &mut states,
+                        out: &mut out,
+                        sliding: SlidingOverrides {
+                            stiffness: Some(&[k_t]),
+                            damping: Some(&[gamma_t]),
+                        },
+                    };
+                    let (report, ran) = run_step(&model, dt, &mut access, config).unwrap();
+                    assert_eq!((report.processed, ran), (1, Scene::SlidingCdtLiggghts));
+                    state = states[0];
+                    let l = &out[0];
+                    let v = |x: rollslide::capi::types::rsl_vec3| {
+                        rollslide::scalar::Vec3::new(x.x, x.y, x.z)
+                    };
+                    (v(l.force1), v(l.torque1), v(l.torque2))
+                };
+                let pairs = [
+                    (force1, row.v("f1{}")),
+                    (torque1, row.v("t1{}")),
+                    (-force1, row.v("f2{}")),
+                    (torque2, row.v("t2{}")),
+                ];
+                for (got, want) in &pairs {
+                    scale = scale.max(want.amax());
+                    let err = (got - want).amax();
+                    if err > worst {
+                        (worst, at) = (err, step);
+                    }
+                }
+            }
+            worst /= scale;
+            println!("{name:22} {simd:?} batch scene kernel: worst relative error {worst:.2e} at step {at}");
+            assert!(
+                worst < 1e-11,
+                "{name} ({simd:?}): the slide+cdt/liggghts kernel differs from LIGGGHTS by \
+                 {worst:.2e} at step {at}"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked >= 4, "expected the cdt cases, found {checked}");
+}

@@ -16,9 +16,10 @@ use crate::laws::model::{
 ///
 /// `{ #[doc = ...] Variant = code, "short name", (sliding, rolling, twisting law, family) }`
 ///
-/// where `sliding` and `rolling` say whether the linear sliding law and the EPSD rolling law
-/// (given k, gamma, damping always, length form) are on, the twisting law is a [`TwistingLaw`]
-/// variant, and the family is [`EXACT`] or [`LAMMPS`] (see [`fold`]). A new scene is a new row
+/// where `sliding` says whether the linear sliding law is on, the rolling law is a
+/// [`RollingLaw`] variant (`None`, `Epsd` with given k and gamma, or `Cdt` in either form), the
+/// twisting law a [`TwistingLaw`] variant, and the family [`EXACT`], [`LAMMPS`] or [`LIGGGHTS`]
+/// (the preset, transports and rolling conventions, see [`fold`]). A new scene is a new row
 /// here, plus what docs/performance.md (*Adding a scene*) lists as kept by hand: the
 /// `RSL_SCENE_*` constant (the header generator reads constants literally), a test model and
 /// the benchmark's rows.
@@ -28,104 +29,144 @@ macro_rules! with_scenes {
             {
                 /// Objective preset, exact transport: linear sliding + EPSD rolling (given k,
                 /// gamma, damping always, length form) + sds twisting, no energy bookkeeping.
-                FullExact = 1, "full/exact", (true, true, Sds, EXACT)
+                FullExact = 1, "full/exact", (true, Epsd, Sds, EXACT)
             }
             {
                 /// LAMMPS_2021 preset (project-rescale transport): linear history + rolling sds
                 /// + twisting sds, the hand-written C baseline's physics.
-                FullLammps = 2, "full/lammps", (true, true, Sds, LAMMPS)
+                FullLammps = 2, "full/lammps", (true, Epsd, Sds, LAMMPS)
             }
             {
                 /// Objective, exact transport, linear sliding only.
-                SlidingExact = 3, "sliding/exact", (true, false, None, EXACT)
+                SlidingExact = 3, "sliding/exact", (true, None, None, EXACT)
             }
             {
                 /// Objective, exact transport, linear sliding + EPSD rolling, no twisting.
-                SlidingRollingExact = 4, "slide+roll/exact", (true, true, None, EXACT)
+                SlidingRollingExact = 4, "slide+roll/exact", (true, Epsd, None, EXACT)
             }
             {
                 /// LAMMPS_2021 preset, linear history sliding only.
-                SlidingLammps = 5, "sliding/lammps", (true, false, None, LAMMPS)
+                SlidingLammps = 5, "sliding/lammps", (true, None, None, LAMMPS)
             }
             {
                 /// LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
-                RollingTwistingLammps = 6, "roll+twist/lammps", (false, true, Sds, LAMMPS)
+                RollingTwistingLammps = 6, "roll+twist/lammps", (false, Epsd, Sds, LAMMPS)
             }
             {
                 /// Objective preset, exact transport: EPSD rolling (given k, gamma, damping
                 /// always, length form) + sds twisting, no sliding law.
-                RollingTwistingExact = 7, "roll+twist/exact", (false, true, Sds, EXACT)
+                RollingTwistingExact = 7, "roll+twist/exact", (false, Epsd, Sds, EXACT)
             }
             {
                 /// LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
-                SlidingRollingLammps = 8, "slide+roll/lammps", (true, true, None, LAMMPS)
+                SlidingRollingLammps = 8, "slide+roll/lammps", (true, Epsd, None, LAMMPS)
             }
             {
                 /// LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall
                 /// (the twisting coefficients derived from the sliding ones and the contact
                 /// radius).
-                FullLammpsMarshall = 9, "full/lammps+marshall", (true, true, Marshall, LAMMPS)
+                FullLammpsMarshall = 9, "full/lammps+marshall", (true, Epsd, Marshall, LAMMPS)
             }
             {
                 /// Objective preset, exact transport: linear sliding + EPSD rolling (as
                 /// `FullExact`) + twisting marshall (the twisting coefficients derived from the
                 /// sliding ones and the contact radius).
-                FullExactMarshall = 10, "full/exact+marshall", (true, true, Marshall, EXACT)
+                FullExactMarshall = 10, "full/exact+marshall", (true, Epsd, Marshall, EXACT)
             }
             {
                 /// Objective preset, exact transport: EPSD rolling only (as `FullExact`'s), no
                 /// sliding or twisting law: rolling resistance added to a host that computes its
                 /// own normal and tangential forces.
-                RollingExact = 11, "roll/exact", (false, true, None, EXACT)
+                RollingExact = 11, "roll/exact", (false, Epsd, None, EXACT)
             }
             {
                 /// LAMMPS_2021 preset, project-rescale transport: EPSD rolling only (as
                 /// `FullLammps`'s), no sliding or twisting law: LAMMPS' `pair granular` rolling
                 /// sds on a host that computes its own normal and tangential forces.
-                RollingLammps = 12, "roll/lammps", (false, true, None, LAMMPS)
+                RollingLammps = 12, "roll/lammps", (false, Epsd, None, LAMMPS)
             }
             {
                 /// LAMMPS_2021 preset, project-rescale transport: twisting sds only, no sliding
                 /// or rolling law: LAMMPS' `pair granular` twisting sds on a host that computes
                 /// its own normal and tangential forces.
-                TwistingLammps = 13, "twist/lammps", (false, false, Sds, LAMMPS)
+                TwistingLammps = 13, "twist/lammps", (false, None, Sds, LAMMPS)
             }
             {
                 /// LAMMPS_2021 preset, project-rescale transport: linear history sliding +
                 /// twisting sds, no rolling law.
-                SlidingTwistingLammps = 14, "slide+twist/lammps", (true, false, Sds, LAMMPS)
+                SlidingTwistingLammps = 14, "slide+twist/lammps", (true, None, Sds, LAMMPS)
             }
             {
                 /// Objective preset, exact transport: twisting sds only (as `FullExact`'s), no
                 /// sliding or rolling law: twisting resistance added to a host that computes its
                 /// own normal and tangential forces.
-                TwistingExact = 15, "twist/exact", (false, false, Sds, EXACT)
+                TwistingExact = 15, "twist/exact", (false, None, Sds, EXACT)
             }
             {
                 /// Objective preset, exact transport: linear sliding + twisting sds, no rolling
                 /// law.
-                SlidingTwistingExact = 16, "slide+twist/exact", (true, false, Sds, EXACT)
+                SlidingTwistingExact = 16, "slide+twist/exact", (true, None, Sds, EXACT)
+            }
+            {
+                /// LIGGGHTS_3_8 preset (`tangential history rolling_friction cdt`): linear
+                /// sliding (projected, clipped on the spring alone) + the cdt rolling moment on
+                /// the elastic normal force `k_n delta` (angle or length form), no twisting law.
+                SlidingCdtLiggghts = 17, "slide+cdt/liggghts", (true, Cdt, None, LIGGGHTS)
             }
         }
     };
 }
 pub(crate) use with_scenes;
 
-/// The transports and preset of the objective scenes: exact transport of both springs.
-pub(crate) const EXACT: (Transport, Preset) = (Transport::Exact, Preset::Objective);
-/// The transports and preset of the LAMMPS scenes: project-rescale transport of both springs,
-/// the LAMMPS_2021 preset.
-pub(crate) const LAMMPS: (Transport, Preset) = (Transport::ProjectRescale, Preset::Lammps2021);
+/// What a family of scenes fixes besides the laws: the preset, the transport of each spring,
+/// and the EPSD rolling law's form and damping mode (unread for the other rolling laws).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Family {
+    preset: Preset,
+    sliding_transport: Transport,
+    rolling_transport: Transport,
+    rolling_form: RollingForm,
+    /// When the EPSD rolling dashpot acts (unread by the other rolling laws).
+    rolling_damping_mode: DampingMode,
+}
 
-/// The laws a scene fixes: whether the linear sliding law and the EPSD rolling law are on, the
-/// twisting law, and the transports and preset.
-type SceneLaws = (bool, bool, TwistingLaw, (Transport, Preset));
+/// The objective scenes: exact transport of both springs, length form, dashpot always.
+pub(crate) const EXACT: Family = Family {
+    preset: Preset::Objective,
+    sliding_transport: Transport::Exact,
+    rolling_transport: Transport::Exact,
+    rolling_form: RollingForm::Length,
+    rolling_damping_mode: DampingMode::Always,
+};
+/// The LAMMPS scenes: the LAMMPS_2021 preset, project-rescale transport of both springs,
+/// length form, dashpot always.
+pub(crate) const LAMMPS: Family = Family {
+    preset: Preset::Lammps2021,
+    sliding_transport: Transport::ProjectRescale,
+    rolling_transport: Transport::ProjectRescale,
+    rolling_form: RollingForm::Length,
+    rolling_damping_mode: DampingMode::Always,
+};
+/// The LIGGGHTS scenes: the LIGGGHTS_3_8 preset as `Model::with_preset` sets it up: the
+/// sliding spring projected, the rolling history not transported, angle form, dashpot only
+/// below the limit.
+pub(crate) const LIGGGHTS: Family = Family {
+    preset: Preset::Liggghts38,
+    sliding_transport: Transport::Project,
+    rolling_transport: Transport::None,
+    rolling_form: RollingForm::Angle,
+    rolling_damping_mode: DampingMode::BelowLimit,
+};
+
+/// The laws a scene fixes: whether the linear sliding law is on, the rolling law, the
+/// twisting law, and the family.
+type SceneLaws = (bool, RollingLaw, TwistingLaw, Family);
 
 /// `Scene`, its list, names, codes and laws from the rows of [`with_scenes`].
 macro_rules! define_scenes {
     ([] $({
         $(#[$doc:meta])* $scene:ident = $code:literal, $name:literal,
-        ($sliding:literal, $rolling:literal, $twisting:ident, $family:ident)
+        ($sliding:literal, $rolling:ident, $twisting:ident, $family:ident)
     })*) => {
         /// The specialised configurations (the const parameter `S` of the kernels is `Scene as
         /// u8`).
@@ -164,7 +205,7 @@ macro_rules! define_scenes {
             const fn laws(self) -> Option<SceneLaws> {
                 match self {
                     Scene::Generic => None,
-                    $(Scene::$scene => Some(($sliding, $rolling, TwistingLaw::$twisting, $family)),)*
+                    $(Scene::$scene => Some(($sliding, RollingLaw::$rolling, TwistingLaw::$twisting, $family)),)*
                 }
             }
         }
@@ -189,7 +230,7 @@ impl Scene {
 #[inline(always)]
 pub fn fold(scene: Scene, model: &Model) -> Model {
     let mut m = *model;
-    let Some((sliding, rolling, twisting, (transport, preset))) = scene.laws() else {
+    let Some((sliding, rolling, twisting, family)) = scene.laws() else {
         return m;
     };
     m.sliding.law = if sliding {
@@ -197,21 +238,20 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
     } else {
         SlidingLaw::None
     };
-    m.rolling.law = if rolling {
-        RollingLaw::Epsd
-    } else {
-        RollingLaw::None
-    };
-    if rolling {
-        m.rolling.form = RollingForm::Length;
+    m.rolling.law = rolling;
+    // The cdt law keeps the model's form (a run-time choice of one product, `eta f` or
+    // `mu_r R_r f`): a batch takes no per-contact `eta`, so the length form is how a host
+    // gives each contact LIGGGHTS' `mu_r R_eff` (the rolling radius) with one `mu_r`.
+    if rolling == RollingLaw::Epsd {
+        m.rolling.form = family.rolling_form;
         m.rolling.stiffness_rule = RollingStiffness::Given;
         m.rolling.damping_rule = RollingDamping::Given;
-        m.rolling.damping_mode = DampingMode::Always;
+        m.rolling.damping_mode = family.rolling_damping_mode;
     }
     m.twisting.law = twisting;
-    m.sliding_transport = transport;
-    m.rolling_transport = transport;
-    m.preset = preset;
+    m.sliding_transport = family.sliding_transport;
+    m.rolling_transport = family.rolling_transport;
+    m.preset = family.preset;
     m.track_energy = false;
     m.torsion_torque = false;
     m.contact_point_sliding = false;

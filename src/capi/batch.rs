@@ -120,6 +120,11 @@ pub const RSL_SCENE_TWISTING_EXACT: u32 = 15;
 /// Scene kernel: objective preset, exact transport, linear sliding + twisting sds (no rolling
 /// law).
 pub const RSL_SCENE_SLIDING_TWISTING_EXACT: u32 = 16;
+/// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction cdt`), linear
+/// sliding (projected, no rescale) + the cdt rolling law (`RSL_ROLLING_CDT`, either form, on
+/// the elastic normal force `k_n delta`: the call needs `normal_stiffness`), no twisting law.
+/// The length form gives each contact LIGGGHTS' moment `mu_r R_eff k_n delta` from one `mu_r`.
+pub const RSL_SCENE_SLIDING_CDT_LIGGGHTS: u32 = 17;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -723,37 +728,49 @@ macro_rules! by_kernel_of_every_scene {
 }
 
 /// [`by_kernel`] with the scenes of the table ([`with_scenes`]) that have a sliding law or not
-/// (`true` or `false`) and are of one family (`LAMMPS` or `EXACT`): `[sliding family; config,
-/// scene, access, args]`. Those are the scenes whose models have one packed-history layout
-/// ([`history_layout`]: the sliding spring or not, the previous normal or not). The rows are
-/// taken one at a time (`@keep`), each kept or skipped, and the kernels of the kept ones run.
+/// (`true` or `false`) and whose family's packed history keeps the springs only (`SPRINGS`:
+/// the LAMMPS and LIGGGHTS families) or the previous normal too (`NORMAL`: the exact family):
+/// `[sliding layout; config, scene, access, args]`. Those are the scenes whose models have one
+/// packed-history layout ([`history_layout`]). The rows are taken one at a time (`@keep`),
+/// each kept or skipped, and the kernels of the kept ones run. (`macro_rules!` cannot compare
+/// two captured tokens, so each kept pair of sliding flag and family is a rule of its own.)
 macro_rules! by_kernel_of_scenes_with {
     ([$($head:tt)*] $($rows:tt)*) => {
         by_kernel_of_scenes_with!(@keep [$($head)*] [] $($rows)*)
     };
-    (@keep [$sliding:tt $family:ident; $config:expr, $scene:expr, $access:expr, $args:tt]
+    (@keep [$sliding:tt $layout:ident; $config:expr, $scene:expr, $access:expr, $args:tt]
         [$($kept:ident)*]) => {
         by_kernel!($config, $scene, [$($kept),*], $access, $args)
     };
-    (@keep [true LAMMPS; $($call:tt)*] [$($kept:ident)*]
+    (@keep [true SPRINGS; $($call:tt)*] [$($kept:ident)*]
         { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, LAMMPS) }
         $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [true LAMMPS; $($call)*] [$($kept)* $s] $($rest)*)
+        by_kernel_of_scenes_with!(@keep [true SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
     };
-    (@keep [true EXACT; $($call:tt)*] [$($kept:ident)*]
+    (@keep [true SPRINGS; $($call:tt)*] [$($kept:ident)*]
+        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, LIGGGHTS) }
+        $($rest:tt)*) => {
+        by_kernel_of_scenes_with!(@keep [true SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
+    };
+    (@keep [true NORMAL; $($call:tt)*] [$($kept:ident)*]
         { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, EXACT) }
         $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [true EXACT; $($call)*] [$($kept)* $s] $($rest)*)
+        by_kernel_of_scenes_with!(@keep [true NORMAL; $($call)*] [$($kept)* $s] $($rest)*)
     };
-    (@keep [false LAMMPS; $($call:tt)*] [$($kept:ident)*]
+    (@keep [false SPRINGS; $($call:tt)*] [$($kept:ident)*]
         { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, LAMMPS) }
         $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [false LAMMPS; $($call)*] [$($kept)* $s] $($rest)*)
+        by_kernel_of_scenes_with!(@keep [false SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
     };
-    (@keep [false EXACT; $($call:tt)*] [$($kept:ident)*]
+    (@keep [false SPRINGS; $($call:tt)*] [$($kept:ident)*]
+        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, LIGGGHTS) }
+        $($rest:tt)*) => {
+        by_kernel_of_scenes_with!(@keep [false SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
+    };
+    (@keep [false NORMAL; $($call:tt)*] [$($kept:ident)*]
         { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, EXACT) }
         $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [false EXACT; $($call)*] [$($kept)* $s] $($rest)*)
+        by_kernel_of_scenes_with!(@keep [false NORMAL; $($call)*] [$($kept)* $s] $($rest)*)
     };
     (@keep $head:tt [$($kept:ident)*] { $($row:tt)* } $($rest:tt)*) => {
         by_kernel_of_scenes_with!(@keep $head [$($kept)*] $($rest)*)
@@ -810,10 +827,10 @@ pub fn run_step<A: CAccess>(
 
 /// As [`run_step`] for packed histories of `W` doubles from full-layout word `F` ([`Record`]),
 /// which must be the model's [`history_layout`] (checked). Only the scenes whose models have
-/// that layout get a specialised kernel: the LAMMPS scenes with a sliding law for 7 words from
-/// word 0, the objective exact-transport ones for 10; without a sliding law, the LAMMPS ones
-/// for 4 words from word 3, the exact ones for 7; none for the YADE preset's layouts (13 words,
-/// or 10 from word 3), which run the generic kernel.
+/// that layout get a specialised kernel: the LAMMPS and LIGGGHTS scenes with a sliding law for
+/// 7 words from word 0, the objective exact-transport ones for 10; without a sliding law, the
+/// LAMMPS and LIGGGHTS ones for 4 words from word 3, the exact ones for 7; none for the YADE
+/// preset's layouts (13 words, or 10 from word 3), which run the generic kernel.
 pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
     model: &Model,
     dt: f64,
@@ -838,19 +855,19 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
     let report = match (F, F + W) {
         (0, SPRINGS_ONLY) => with_scenes!(
             by_kernel_of_scenes_with,
-            [true LAMMPS; config, scene, access, (model, dt, access)]
+            [true SPRINGS; config, scene, access, (model, dt, access)]
         ),
         (0, WITH_NORMAL) => with_scenes!(
             by_kernel_of_scenes_with,
-            [true EXACT; config, scene, access, (model, dt, access)]
+            [true NORMAL; config, scene, access, (model, dt, access)]
         ),
         (NO_SLIDING, SPRINGS_ONLY) => with_scenes!(
             by_kernel_of_scenes_with,
-            [false LAMMPS; config, scene, access, (model, dt, access)]
+            [false SPRINGS; config, scene, access, (model, dt, access)]
         ),
         (NO_SLIDING, WITH_NORMAL) => with_scenes!(
             by_kernel_of_scenes_with,
-            [false EXACT; config, scene, access, (model, dt, access)]
+            [false NORMAL; config, scene, access, (model, dt, access)]
         ),
         _ => by_kernel!(config, scene, [], access, (model, dt, access)),
     };
@@ -1908,6 +1925,7 @@ mod tests {
                 RSL_SCENE_SLIDING_TWISTING_EXACT,
                 Scene::SlidingTwistingExact,
             ),
+            (RSL_SCENE_SLIDING_CDT_LIGGGHTS, Scene::SlidingCdtLiggghts),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());
         for (code, scene) in constants {

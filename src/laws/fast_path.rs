@@ -15,8 +15,10 @@ use crate::decompose::Sphere;
 use crate::error::Error;
 use crate::geometry::{pair_geometry_in_range, pair_geometry_unchecked, ContactGeometry};
 use crate::laws::checked::contact_step_pair;
-use crate::laws::model::{Model, RollingDamping, RollingLaw, SlidingLaw, TwistingLaw};
-use crate::laws::step::{contact_step_with_geometry, ContactState, Partner, StepInput, StepOutput};
+use crate::laws::model::{Model, RollingDamping, RollingLaw};
+use crate::laws::step::{
+    contact_step_with_geometry, written_fields, ContactState, Partner, StepInput, StepOutput,
+};
 use crate::scalar::FiniteSums;
 
 /// True when `input` has no per-contact override, no limit force, no bond (shear adhesion,
@@ -163,8 +165,9 @@ pub fn outputs_finite(model: &Model, out: &StepOutput<f64>, state: &ContactState
 ///
 /// It adds up `force1`, `torque1`, `torque2`, the state values the scene's laws write, and the
 /// energy terms if the model tracks them (no specialised scene does). The rest needs no test:
-/// - state values no law of the scene writes (the springs of the laws that are off, and the
-///   off-axis twist, which only YADE's vector twisting writes) are the input's, shown finite;
+/// - state values no law of the scene writes ([`written_fields`]: the springs of the laws that
+///   are off or keep none, as cdt, and the off-axis twist, which only YADE's vector twisting
+///   writes) are the input's, shown finite;
 /// - the new previous normal `n`, the sliding force `F_t`, the rolling moment `M_r` and the
 ///   twisting torque `M_tw` each reach the same component of `force1 = F_t - f_n n` or of
 ///   `torque1 = l1 (n x F_t) + (M_r + M_tw)` through one add or subtract (and, for `n`, a
@@ -189,17 +192,18 @@ pub fn scene_outputs_finite<const S: u8>(
     for v in [&l.force1, &l.torque1, &l.torque2] {
         sums.add_vec(v);
     }
-    if folded.sliding.law != SlidingLaw::None {
+    let written = written_fields(&folded);
+    if written.sliding_spring {
         sums.add_vec(&state.sliding_spring);
     }
-    if folded.rolling.law != RollingLaw::None {
+    if written.rolling_spring {
         sums.add_vec(&state.rolling_spring);
     }
-    if folded.twisting.law != TwistingLaw::None {
+    if written.twisting_angle {
         sums.add([state.twisting_angle]);
-        if folded.preset.conventions().twist_vector {
-            sums.add_vec(&state.twisting_offaxis);
-        }
+    }
+    if written.twisting_offaxis {
+        sums.add_vec(&state.twisting_offaxis);
     }
     if folded.track_energy {
         sums.add(out.energy.terms());

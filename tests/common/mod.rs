@@ -60,6 +60,14 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     twist.rolling.law = RollingLaw::None;
     let mut slide_twist = full;
     slide_twist.rolling.law = RollingLaw::None;
+    // LIGGGHTS' `tangential history rolling_friction cdt`: the preset's transports and angle
+    // form, a moment eta k_n delta (eta = mu_r R, a length) above a relative spin of 1 rad/s
+    // (the tests' spins are up to a few rad/s, so both sides of the threshold run).
+    let mut slide_cdt_liggghts = Model::with_preset(Preset::Liggghts38);
+    slide_cdt_liggghts.sliding = full.sliding;
+    slide_cdt_liggghts.rolling.law = RollingLaw::Cdt;
+    slide_cdt_liggghts.rolling.friction = 0.05;
+    slide_cdt_liggghts.rolling.rate_threshold = 1.0;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -77,6 +85,7 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (slide_twist_lammps, Scene::SlidingTwistingLammps),
         (twist, Scene::TwistingExact),
         (slide_twist, Scene::SlidingTwistingExact),
+        (slide_cdt_liggghts, Scene::SlidingCdtLiggghts),
     ]
 }
 
