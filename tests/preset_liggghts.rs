@@ -15,6 +15,48 @@ use rollslide::laws::model::*;
 use rollslide::laws::step::{ContactState, StepInput};
 use rollslide::Sphere;
 
+/// LIGGGHTS' Hertz coefficients of a material (`params["materials"]`): per contact, `k_n`,
+/// `k_t` and `gamma_t` from Young's modulus, Poisson's ratio and restitution.
+struct Hertz {
+    y_eff: f64,
+    g_eff: f64,
+    beta: f64,
+}
+
+impl Hertz {
+    fn of(mat: &serde_json::Value) -> Hertz {
+        let f = |k: &str| mat[k].as_f64().unwrap();
+        let (young, poisson) = (f("youngsModulus"), f("poissonsRatio"));
+        let ln_e = f("coefficientRestitution").ln();
+        Hertz {
+            y_eff: young / (2.0 * (1.0 - poisson * poisson)),
+            g_eff: young / (4.0 * (2.0 - poisson) * (1.0 + poisson)),
+            beta: ln_e / (ln_e * ln_e + std::f64::consts::PI.powi(2)).sqrt(),
+        }
+    }
+
+    /// `(k_n, k_t, gamma_t)` of two spheres of masses `m1`, `m2` (the spheres' positions give
+    /// the overlap).
+    fn coefficients(
+        &self,
+        b1: &Sphere<f64>,
+        b2: &Sphere<f64>,
+        m1: f64,
+        m2: f64,
+    ) -> (f64, f64, f64) {
+        let r_eff = b1.radius * b2.radius / (b1.radius + b2.radius);
+        let delta = b1.radius + b2.radius - (b2.position - b1.position).norm();
+        let root_rd = (r_eff * delta).sqrt();
+        let k_t = 8.0 * self.g_eff * root_rd;
+        let m_eff = m1 * m2 / (m1 + m2);
+        (
+            4.0 / 3.0 * self.y_eff * root_rd,
+            k_t,
+            -2.0 * (5.0f64 / 6.0).sqrt() * self.beta * (k_t * m_eff).sqrt(),
+        )
+    }
+}
+
 #[test]
 fn liggghts_3_8_preset_reproduces_liggghts_step_by_step() {
     let dir = root().join("tests/reference/liggghts");
@@ -28,11 +70,7 @@ fn liggghts_3_8_preset_reproduces_liggghts_step_by_step() {
         let params = load_json(&dir.join(format!("params/{name}.json")));
         let mat = &params["materials"];
         let f = |k: &str| mat[k].as_f64().unwrap();
-        let (young, poisson) = (f("youngsModulus"), f("poissonsRatio"));
-        let y_eff = young / (2.0 * (1.0 - poisson * poisson));
-        let g_eff = young / (4.0 * (2.0 - poisson) * (1.0 + poisson));
-        let ln_e = f("coefficientRestitution").ln();
-        let beta = ln_e / (ln_e * ln_e + std::f64::consts::PI.powi(2)).sqrt();
+        let hertz = Hertz::of(mat);
         let mu_r = f("coefficientRollingFriction");
         let law = params["rolling_friction"].as_str().unwrap();
 
@@ -81,12 +119,7 @@ fn liggghts_3_8_preset_reproduces_liggghts_step_by_step() {
             let (b1, b2) = (sphere("1"), sphere("2"));
             let (m1, m2) = (row.f("m1"), row.f("m2"));
             let r_eff = b1.radius * b2.radius / (b1.radius + b2.radius);
-            let delta = b1.radius + b2.radius - (b2.position - b1.position).norm();
-            let root_rd = (r_eff * delta).sqrt();
-            let k_n = 4.0 / 3.0 * y_eff * root_rd;
-            let k_t = 8.0 * g_eff * root_rd;
-            let m_eff = m1 * m2 / (m1 + m2);
-            let gamma_t = -2.0 * (5.0f64 / 6.0).sqrt() * beta * (k_t * m_eff).sqrt();
+            let (k_n, k_t, gamma_t) = hertz.coefficients(&b1, &b2, m1, m2);
             let mut input = StepInput::new(row.f("fn"), dt);
             input.normal_stiffness = k_n;
             input.sliding_stiffness = Some(k_t);
@@ -158,11 +191,7 @@ fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
         }
         let mat = &params["materials"];
         let f = |k: &str| mat[k].as_f64().unwrap();
-        let (young, poisson) = (f("youngsModulus"), f("poissonsRatio"));
-        let y_eff = young / (2.0 * (1.0 - poisson * poisson));
-        let g_eff = young / (4.0 * (2.0 - poisson) * (1.0 + poisson));
-        let ln_e = f("coefficientRestitution").ln();
-        let beta = ln_e / (ln_e * ln_e + std::f64::consts::PI.powi(2)).sqrt();
+        let hertz = Hertz::of(mat);
         let mut model = Model::with_preset(Preset::Liggghts38);
         model.sliding = SlidingParams {
             law: SlidingLaw::Linear,
@@ -197,13 +226,7 @@ fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
                 };
                 let (b1, b2) = (sphere("1"), sphere("2"));
                 let (m1, m2) = (row.f("m1"), row.f("m2"));
-                let r_eff = b1.radius * b2.radius / (b1.radius + b2.radius);
-                let delta = b1.radius + b2.radius - (b2.position - b1.position).norm();
-                let root_rd = (r_eff * delta).sqrt();
-                let k_n = 4.0 / 3.0 * y_eff * root_rd;
-                let k_t = 8.0 * g_eff * root_rd;
-                let m_eff = m1 * m2 / (m1 + m2);
-                let gamma_t = -2.0 * (5.0f64 / 6.0).sqrt() * beta * (k_t * m_eff).sqrt();
+                let (k_n, k_t, gamma_t) = hertz.coefficients(&b1, &b2, m1, m2);
                 let (force1, torque1, torque2) = if step == 0 {
                     let mut input = StepInput::new(row.f("fn"), dt);
                     input.normal_stiffness = k_n;
