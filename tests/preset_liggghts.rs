@@ -15,6 +15,16 @@ use rollslide::laws::model::*;
 use rollslide::laws::step::{ContactState, StepInput};
 use rollslide::Sphere;
 
+/// Sphere `k` ("1" or "2") of a reference row: centre, velocity, spin and radius columns.
+fn row_sphere(row: &Row, k: &str) -> Sphere<f64> {
+    Sphere {
+        position: row.v(&format!("{{}}{k}")),
+        velocity: row.v(&format!("v{k}{{}}")),
+        angular_velocity: row.v(&format!("w{k}{{}}")),
+        radius: row.f(&format!("r{k}")),
+    }
+}
+
 /// LIGGGHTS' Hertz coefficients of a material (`params["materials"]`): per contact, `k_n`,
 /// `k_t` and `gamma_t` from Young's modulus, Poisson's ratio and restitution.
 struct Hertz {
@@ -110,13 +120,7 @@ fn liggghts_3_8_preset_reproduces_liggghts_step_by_step() {
         let (mut worst, mut at, mut scale) = (0.0f64, 0usize, 1e-300f64);
         for row in rows {
             let step = row.f("step") as usize;
-            let sphere = |k: &str| Sphere {
-                position: row.v(&format!("{{}}{k}")),
-                velocity: row.v(&format!("v{k}{{}}")),
-                angular_velocity: row.v(&format!("w{k}{{}}")),
-                radius: row.f(&format!("r{k}")),
-            };
-            let (b1, b2) = (sphere("1"), sphere("2"));
+            let (b1, b2) = (row_sphere(row, "1"), row_sphere(row, "2"));
             let (m1, m2) = (row.f("m1"), row.f("m2"));
             let r_eff = b1.radius * b2.radius / (b1.radius + b2.radius);
             let (k_n, k_t, gamma_t) = hertz.coefficients(&b1, &b2, m1, m2);
@@ -218,13 +222,7 @@ fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
             let (mut worst, mut at, mut scale) = (0.0f64, 0usize, 1e-300f64);
             for row in rows {
                 let step = row.f("step") as usize;
-                let sphere = |k: &str| Sphere {
-                    position: row.v(&format!("{{}}{k}")),
-                    velocity: row.v(&format!("v{k}{{}}")),
-                    angular_velocity: row.v(&format!("w{k}{{}}")),
-                    radius: row.f(&format!("r{k}")),
-                };
-                let (b1, b2) = (sphere("1"), sphere("2"));
+                let (b1, b2) = (row_sphere(row, "1"), row_sphere(row, "2"));
                 let (m1, m2) = (row.f("m1"), row.f("m2"));
                 let (k_n, k_t, gamma_t) = hertz.coefficients(&b1, &b2, m1, m2);
                 let (force1, torque1, torque2) = if step == 0 {
