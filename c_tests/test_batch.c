@@ -20,6 +20,16 @@ static void scene(rsl_sphere p[NP], uint32_t pairs[2 * NC], double fn[NC]) {
     }
 }
 
+/* Adds one contact's loads as the batch calls do: force1 to body i, -force1 to j, torque1 to
+ * i, torque2 to j. */
+static void add_loads(rsl_vec3 *f, rsl_vec3 *t, uint32_t i, uint32_t j,
+                      const rsl_contact_loads *l) {
+    f[i].x += l->force1.x, f[i].y += l->force1.y, f[i].z += l->force1.z;
+    f[j].x -= l->force1.x, f[j].y -= l->force1.y, f[j].z -= l->force1.z;
+    t[i].x += l->torque1.x, t[i].y += l->torque1.y, t[i].z += l->torque1.z;
+    t[j].x += l->torque2.x, t[j].y += l->torque2.y, t[j].z += l->torque2.z;
+}
+
 /* EPSD rolling with given coefficients (the preset's form and damping mode kept). */
 static void set_rolling_epsd(rsl_model *m) {
     rsl_rolling_params rp;
@@ -64,10 +74,7 @@ void test_batch_matches_per_contact_calls(void) {
         in.dt = dt;
         uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
         CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &lr[c]), RSL_OK);
-        fr[i].x += lr[c].force1.x, fr[i].y += lr[c].force1.y, fr[i].z += lr[c].force1.z;
-        fr[j].x -= lr[c].force1.x, fr[j].y -= lr[c].force1.y, fr[j].z -= lr[c].force1.z;
-        tr[i].x += lr[c].torque1.x, tr[i].y += lr[c].torque1.y, tr[i].z += lr[c].torque1.z;
-        tr[j].x += lr[c].torque2.x, tr[j].y += lr[c].torque2.y, tr[j].z += lr[c].torque2.z;
+        add_loads(fr, tr, i, j, &lr[c]);
     }
     uint32_t support = rsl_batch_simd_support();
     CHECK((support >> RSL_SIMD_SCALAR) & 1);
@@ -342,10 +349,7 @@ void test_batch_liggghts_cdt_scene(void) {
             CHECK(mr <= 0.05 * kn[c] * delta * (1 + 1e-12));
             turning += mr > 0;
             if (step == 0) continue;
-            fr[i].x += l.force1.x, fr[i].y += l.force1.y, fr[i].z += l.force1.z;
-            fr[j].x -= l.force1.x, fr[j].y -= l.force1.y, fr[j].z -= l.force1.z;
-            tr[i].x += l.torque1.x, tr[i].y += l.torque1.y, tr[i].z += l.torque1.z;
-            tr[j].x += l.torque2.x, tr[j].y += l.torque2.y, tr[j].z += l.torque2.z;
+            add_loads(fr, tr, i, j, &l);
         }
     CHECK(turning > 0);
     uint32_t support = rsl_batch_simd_support();
@@ -506,10 +510,7 @@ void test_batch_step_params(void) {
             const uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
             rsl_contact_loads l;
             CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &l), RSL_OK);
-            fr[i].x += l.force1.x, fr[i].y += l.force1.y, fr[i].z += l.force1.z;
-            fr[j].x -= l.force1.x, fr[j].y -= l.force1.y, fr[j].z -= l.force1.z;
-            tr[i].x += l.torque1.x, tr[i].y += l.torque1.y, tr[i].z += l.torque1.z;
-            tr[j].x += l.torque2.x, tr[j].y += l.torque2.y, tr[j].z += l.torque2.z;
+            add_loads(fr, tr, i, j, &l);
         }
         CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &params, dt, NULL, sb,
                                            fb, tb, NULL),
