@@ -121,7 +121,10 @@
  *                   generic(slide+twist/lammps), slide+twist/exact,
  *                   generic(slide+twist/exact), slide+cdt/liggghts (LIGGGHTS_3_8 preset:
  *                   linear sliding + cdt rolling on k_n delta, k_n passed per contact),
- *                   generic(slide+cdt/liggghts) (group full),
+ *                   generic(slide+cdt/liggghts), slide+epsd2/liggghts (LIGGGHTS_3_8 preset:
+ *                   linear sliding + EPSD rolling with LIGGGHTS' epsd2 stiffness k_t R^2, the
+ *                   length form, no rolling dashpot), generic(slide+epsd2/liggghts) (group
+ *                   full),
  *                   roll+twist/exact, generic(rolltwist), roll/exact, roll/lammps (rolling
  *                   only: no twisting law), generic(roll/lammps), twist/lammps (twisting
  *                   only: no sliding or rolling law), generic(twist/lammps), twist/exact,
@@ -1167,6 +1170,25 @@ static rsl_model *make_cdt_model(void) {
     return m;
 }
 
+/* LIGGGHTS' `tangential history rolling_friction epsd2`: linear sliding (KT, GT, MU) and EPSD
+ * rolling with the stiffness KT R_eff^2 and the limit MUR R_eff f_n (the length form), no rolling
+ * dashpot (LIGGGHTS' epsd2 has none). */
+static rsl_model *make_epsd2_model(void) {
+    rsl_model *m = NULL;
+    check(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), "rsl_model_new(LIGGGHTS)");
+    check(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, KT, GT, MU), "rsl_model_set_sliding");
+    rsl_rolling_params rp;
+    check(rsl_model_get_rolling(m, &rp), "rsl_model_get_rolling");
+    rp.law = RSL_ROLLING_EPSD;
+    rp.form = RSL_FORM_LENGTH;
+    rp.stiffness_rule = RSL_STIFFNESS_EPSD2;
+    rp.damping_rule = RSL_DAMPING_GIVEN;
+    rp.damping = 0.0;
+    rp.friction = MUR;
+    check(rsl_model_set_rolling(m, &rp), "rsl_model_set_rolling(epsd2)");
+    return m;
+}
+
 static const char *LEVEL[4] = {"auto", "scalar", "avx2", "avx512"};
 /* --level=NAME: the SIMD level of the rows that otherwise run at the best one. */
 static uint32_t BEST_LEVEL = RSL_SIMD_AUTO;
@@ -1243,7 +1265,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 31 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 33 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1269,7 +1291,7 @@ int main(int argc, char **argv) {
               *slide_twist_lammps = make_model(RSL_PRESET_LAMMPS_2021, 1, 0, 1),
               *twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 0, 1),
               *slide_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 1),
-              *slide_cdt_liggghts = make_cdt_model();
+              *slide_cdt_liggghts = make_cdt_model(), *slide_epsd2_liggghts = make_epsd2_model();
     /* other scenes (workload A), each in the group whose floor and baseline it is set against;
      * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
     struct {
@@ -1295,6 +1317,8 @@ int main(int argc, char **argv) {
         {"generic(slide+twist/exact)", slide_twist_exact, RSL_BATCH_GENERIC, FULL},
         {"slide+cdt/liggghts", slide_cdt_liggghts, 0, FULL},
         {"generic(slide+cdt/liggghts)", slide_cdt_liggghts, RSL_BATCH_GENERIC, FULL},
+        {"slide+epsd2/liggghts", slide_epsd2_liggghts, 0, FULL},
+        {"generic(slide+epsd2/liggghts)", slide_epsd2_liggghts, RSL_BATCH_GENERIC, FULL},
         {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
         {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
         {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},

@@ -401,6 +401,101 @@ void test_batch_liggghts_cdt_scene(void) {
     rsl_model_free(m);
 }
 
+/* LIGGGHTS' `tangential history rolling_friction epsd2` has its scene kernel
+ * (RSL_SCENE_SLIDING_EPSD2_LIGGGHTS), here in the length form (the limit mu_r R_eff f_n from
+ * one mu_r) with LIGGGHTS' per-contact k_t and gamma_t through rsl_batch_step_params: at every
+ * SIMD level (double) the loads and states equal per-contact rsl_contact_step with
+ * RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING bit for bit; the rolling moment stays
+ * within its limit, reached by some contacts and not others; the rolling stiffness k_t R^2 follows
+ * each contact's k_t (without params, the model's k_t gives other rolling springs). */
+void test_batch_liggghts_epsd2_scene(void) {
+    rsl_sphere p[NP];
+    uint32_t pairs[2 * NC];
+    double fn[NC], kt[NC], gt[NC];
+    scene(p, pairs, fn);
+    for (int c = 0; c < NC; c++) {
+        kt[c] = 2e4 * (c + 1);
+        gt[c] = 0.5 * c;
+    }
+    const rsl_batch_contact_params params = {kt, gt};
+    rsl_model *m = NULL;
+    CHECK_STATUS(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), RSL_OK);
+    CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
+    rsl_rolling_params rp;
+    CHECK_STATUS(rsl_model_get_rolling(m, &rp), RSL_OK);
+    rp.law = RSL_ROLLING_EPSD;
+    rp.form = RSL_FORM_LENGTH;
+    rp.stiffness_rule = RSL_STIFFNESS_EPSD2;
+    rp.friction = 0.1; /* mu_r */
+    CHECK_STATUS(rsl_model_set_rolling(m, &rp), RSL_OK);
+    uint32_t code = 99;
+    CHECK_STATUS(rsl_batch_scene(m, &code), RSL_OK);
+    CHECK(code == RSL_SCENE_SLIDING_EPSD2_LIGGGHTS);
+    const double dt = 1e-4, r_eff = 0.25;
+    enum { STEPS = 4 };
+    /* Reference: per-contact steps from zero histories, the last step's loads summed. */
+    rsl_vec3 fr[NP], tr[NP];
+    rsl_contact_state sr[NC];
+    memset(sr, 0, sizeof sr);
+    int at_limit = 0;
+    for (int step = 0; step < STEPS; step++) {
+        memset(fr, 0, sizeof fr);
+        memset(tr, 0, sizeof tr);
+        for (int c = 0; c < NC; c++) {
+            rsl_contact_input in;
+            memset(&in, 0, sizeof in);
+            in.normal_force = fn[c];
+            in.dt = dt;
+            in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
+            in.sliding_stiffness = kt[c];
+            in.sliding_damping = gt[c];
+            const uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
+            rsl_contact_loads l;
+            CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &l), RSL_OK);
+            const rsl_vec3 mr = l.rolling_moment;
+            const double moment = sqrt(mr.x * mr.x + mr.y * mr.y + mr.z * mr.z);
+            CHECK(moment <= 0.1 * r_eff * fn[c] * (1 + 1e-12));
+            if (step == STEPS - 1) at_limit += (sr[c].slip_flags & RSL_SLIP_ROLLING) != 0;
+            add_loads(fr, tr, i, j, &l);
+        }
+    }
+    CHECK(at_limit > 0 && at_limit < NC);
+    uint32_t support = rsl_batch_simd_support();
+    for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
+        if (!((support >> lv) & 1)) continue;
+        rsl_batch_options o;
+        memset(&o, 0, sizeof o);
+        o.simd = lv;
+        rsl_vec3 f[NP], t[NP], fp[NP], tp[NP];
+        rsl_contact_state s[NC], plain[NC];
+        memset(s, 0, sizeof s);
+        memset(plain, 0, sizeof plain);
+        rsl_batch_report rep;
+        for (int step = 0; step < STEPS; step++) {
+            memset(f, 0, sizeof f);
+            memset(t, 0, sizeof t);
+            CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &params, dt, &o, s,
+                                               f, t, &rep),
+                         RSL_OK);
+            CHECK(rep.processed == NC && rep.scene == RSL_SCENE_SLIDING_EPSD2_LIGGGHTS);
+            CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, NULL, dt, &o, plain,
+                                               fp, tp, NULL),
+                         RSL_OK);
+        }
+        CHECK(memcmp(f, fr, sizeof f) == 0 && memcmp(t, tr, sizeof t) == 0);
+        for (int c = 0; c < NC; c++) {
+            CHECK(memcmp(&s[c].sliding_spring, &sr[c].sliding_spring, sizeof(rsl_vec3)) == 0);
+            CHECK(memcmp(&s[c].rolling_spring, &sr[c].rolling_spring, sizeof(rsl_vec3)) == 0);
+            CHECK(s[c].slip_flags == sr[c].slip_flags);
+            /* the model's k_t (1e5) for every contact: other rolling springs, except where
+             * both are at the limit */
+            if (!(s[c].slip_flags & RSL_SLIP_ROLLING))
+                CHECK(plain[c].rolling_spring.x != s[c].rolling_spring.x);
+        }
+    }
+    rsl_model_free(m);
+}
+
 /* rsl_batch_step_contacts_params: per-contact k_t and gamma_t equal to rsl_contact_step with
  * RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING, bit for bit in double; a negative
  * k_t skips its contact with rsl_contact_step's status; NULL params is the plain call. */

@@ -119,6 +119,16 @@
 // The length form gives each contact LIGGGHTS' moment `mu_r R_eff k_n delta` from one `mu_r`.
 #define RSL_SCENE_SLIDING_CDT_LIGGGHTS 17
 
+// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction epsd2`), linear
+// sliding (projected, no rescale) + EPSD rolling (`RSL_ROLLING_EPSD`) with the stiffness rule
+// `RSL_STIFFNESS_EPSD2` (`k_t R_r^2`, from each contact's sliding stiffness: per-contact `k_t`
+// through `rsl_batch_step_params` gives each contact its own), given damping acting below the
+// limit only, either form, no twisting law. The angle form matches LIGGGHTS to rounding with
+// one `eta` for every contact; the length form gives each contact LIGGGHTS' limit
+// `mu_r R_eff f` from one `mu_r`, but keeps the spring as a displacement where LIGGGHTS keeps
+// the moment (the two part slowly once the normal turns).
+#define RSL_SCENE_SLIDING_EPSD2_LIGGGHTS 18
+
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
 

@@ -70,6 +70,15 @@ fn models() -> Vec<(Model, Scene)> {
     cdt_length.rolling.form = rollslide::laws::model::RollingForm::Length;
     cdt_length.rolling.friction = 0.1;
     models.push((cdt_length, Scene::SlidingCdtLiggghts));
+    // LIGGGHTS' epsd2 in the length form (k_r = k_t, limit mu_r R_r f): also a run-time choice.
+    let mut epsd2_length = models
+        .iter()
+        .find(|(_, s)| *s == Scene::SlidingEpsd2Liggghts)
+        .unwrap()
+        .0;
+    epsd2_length.rolling.form = rollslide::laws::model::RollingForm::Length;
+    epsd2_length.rolling.friction = 0.1;
+    models.push((epsd2_length, Scene::SlidingEpsd2Liggghts));
     models.push((unlimited, Scene::FullExact));
     models.push((yade, Scene::Generic));
     models.push((viscous, Scene::Generic));

@@ -49,7 +49,23 @@ fn models() -> Vec<Model> {
         .unwrap();
     cdt_length.rolling.form = RollingForm::Length;
     cdt_length.rolling.friction = 0.1;
-    models.extend([cdt_length, energy, yade, liggghts, derived, ratio, marshall]);
+    // And LIGGGHTS' epsd2 in the length form (slide+epsd2/liggghts, the same run-time choice).
+    let mut epsd2_length = *models
+        .iter()
+        .find(|m| Scene::classify(m) == Scene::SlidingEpsd2Liggghts)
+        .unwrap();
+    epsd2_length.rolling.form = RollingForm::Length;
+    epsd2_length.rolling.friction = 0.1;
+    models.extend([
+        cdt_length,
+        epsd2_length,
+        energy,
+        yade,
+        liggghts,
+        derived,
+        ratio,
+        marshall,
+    ]);
     for m in &models {
         m.validate().expect("test model is valid");
     }
@@ -380,6 +396,7 @@ fn scene_result_test_never_passes_a_non_finite_result() {
                 Scene::TwistingExact => scene_step::<15>(&model, &c),
                 Scene::SlidingTwistingExact => scene_step::<16>(&model, &c),
                 Scene::SlidingCdtLiggghts => scene_step::<17>(&model, &c),
+                Scene::SlidingEpsd2Liggghts => scene_step::<18>(&model, &c),
                 Scene::Generic => unreachable!("scene_models gives specialised scenes"),
             };
             let Some((passed, o, next)) = step else {

@@ -168,16 +168,21 @@ fn c_vec(x: &rollslide::scalar::Vec3<f64>) -> rollslide::capi::types::rsl_vec3 {
     }
 }
 
-/// The batch call's scene kernel for LIGGGHTS' `tangential history rolling_friction cdt`
-/// (`slide+cdt/liggghts`) against LIGGGHTS-PUBLIC 3.8.0: every step of the reference's cdt cases
-/// without `torsionTorque` (that switch runs the generic kernel), through the contact-major batch
-/// call at every SIMD level the CPU has, with the host's per-contact `k_t`, `gamma_t` and `k_n`
-/// as above. The batch takes no per-contact `eta`, so the model is in the length form with
-/// LIGGGHTS' `mu_r`: the moment `mu_r R_r f` with the rolling radius `R_eff`, LIGGGHTS'
-/// `mu_r R_eff k_n delta`. The setup pass (step 0), which the batch does not make, goes through
-/// the per-contact step. Same tolerance as the per-contact test above.
+/// The batch call's scene kernels for LIGGGHTS' `tangential history rolling_friction cdt`
+/// (`slide+cdt/liggghts`) and `... epsd2` (`slide+epsd2/liggghts`) against LIGGGHTS-PUBLIC
+/// 3.8.0: every step of the reference's cdt and epsd2 cases without `torsionTorque` (that switch
+/// runs the generic kernel), through the contact-major batch call at every SIMD level the CPU
+/// has, with the host's per-contact `k_t`, `gamma_t` and `k_n` as above (epsd2's rolling
+/// stiffness `k_t R_eff^2` comes from that per-contact `k_t`). The batch takes no per-contact
+/// `eta`. cdt runs in the length form with LIGGGHTS' `mu_r`: the moment `mu_r R_r k_n delta`
+/// with the rolling radius `R_eff`, LIGGGHTS' `mu_r R_eff k_n delta` for any pair. epsd2 runs in
+/// LIGGGHTS' angle form with the case's `eta = mu_r R_eff` (one pair per case): the length form
+/// keeps the spring as a displacement where LIGGGHTS keeps the moment, and in the general case
+/// (the normal turning) the two part by about 5e-7 of the loads over 300 steps. The setup pass
+/// (step 0), which the batch does not make, goes through the per-contact step. Same tolerance as
+/// the per-contact test above.
 #[test]
-fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
+fn liggghts_scene_kernels_reproduce_liggghts_through_the_batch_call() {
     use rollslide::batch::{ContactSteps, Scene, SlidingOverrides};
     use rollslide::capi::batch::{rsl_batch_loads, run_step, BatchConfig, Simd};
     use rollslide::capi::contact::rsl_contact_state;
@@ -185,12 +190,15 @@ fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
 
     let dir = root().join("tests/reference/liggghts");
     let cases = load_cases(&dir.join("liggghts_reference.csv"));
-    let mut checked = 0;
+    let mut checked = std::collections::BTreeMap::new();
     for (name, rows) in &cases {
         let params = load_json(&dir.join(format!("params/{name}.json")));
-        if params["rolling_friction"].as_str() != Some("cdt")
-            || params["torsion_torque"].as_bool().unwrap_or(false)
-        {
+        let law = match params["rolling_friction"].as_str() {
+            Some("cdt") => "cdt",
+            Some("epsd2") => "epsd2",
+            _ => continue,
+        };
+        if params["torsion_torque"].as_bool().unwrap_or(false) {
             continue;
         }
         let mat = &params["materials"];
@@ -203,11 +211,22 @@ fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
             damping: 0.0,
             friction: f("coefficientFriction"),
         };
-        model.rolling.law = RollingLaw::Cdt;
-        model.rolling.form = RollingForm::Length;
-        model.rolling.friction = f("coefficientRollingFriction");
+        let mu_r = f("coefficientRollingFriction");
+        let scene = if law == "cdt" {
+            model.rolling.law = RollingLaw::Cdt;
+            model.rolling.form = RollingForm::Length;
+            model.rolling.friction = mu_r;
+            Scene::SlidingCdtLiggghts
+        } else {
+            // The angle form with the case's eta = mu_r R_eff (one pair of spheres per case).
+            let (b1, b2) = (row_sphere(&rows[0], "1"), row_sphere(&rows[0], "2"));
+            model.rolling.law = RollingLaw::Epsd;
+            model.rolling.stiffness_rule = RollingStiffness::Epsd2;
+            model.rolling.friction = mu_r * b1.radius * b2.radius / (b1.radius + b2.radius);
+            Scene::SlidingEpsd2Liggghts
+        };
         model.validate().unwrap();
-        assert_eq!(Scene::classify(&model), Scene::SlidingCdtLiggghts);
+        assert_eq!(Scene::classify(&model), scene);
         let dt = params["dt"].as_f64().unwrap();
         for simd in [Simd::Scalar, Simd::Avx2, Simd::Avx512] {
             if !simd.available() {
@@ -261,7 +280,7 @@ fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
                         },
                     };
                     let (report, ran) = run_step(&model, dt, &mut access, config).unwrap();
-                    assert_eq!((report.processed, ran), (1, Scene::SlidingCdtLiggghts));
+                    assert_eq!((report.processed, ran), (1, scene));
                     state = states[0];
                     let l = &out[0];
                     let v = |x: rollslide::capi::types::rsl_vec3| {
@@ -284,14 +303,22 @@ fn liggghts_cdt_scene_kernel_reproduces_liggghts_through_the_batch_call() {
                 }
             }
             worst /= scale;
-            println!("{name:22} {simd:?} batch scene kernel: worst relative error {worst:.2e} at step {at}");
+            println!(
+                "{name:22} {simd:?} {}: worst relative error {worst:.2e} at step {at}",
+                scene.name()
+            );
             assert!(
                 worst < 1e-11,
-                "{name} ({simd:?}): the slide+cdt/liggghts kernel differs from LIGGGHTS by \
-                 {worst:.2e} at step {at}"
+                "{name} ({simd:?}): the {} kernel differs from LIGGGHTS by {worst:.2e} at step \
+                 {at}",
+                scene.name()
             );
         }
-        checked += 1;
+        *checked.entry(law).or_insert(0) += 1;
     }
-    assert!(checked >= 4, "expected the cdt cases, found {checked}");
+    assert_eq!(
+        (checked.get("cdt"), checked.get("epsd2")),
+        (Some(&4), Some(&4)),
+        "expected 4 cdt and 4 epsd2 cases"
+    );
 }

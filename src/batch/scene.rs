@@ -17,9 +17,9 @@ use crate::laws::model::{
 /// `{ #[doc = ...] Variant = code, "short name", (sliding, rolling, twisting law, family) }`
 ///
 /// where `sliding` says whether the linear sliding law is on, the rolling law is a
-/// [`RollingLaw`] variant (`None`, `Epsd` with given k and gamma, or `Cdt` in either form), the
-/// twisting law a [`TwistingLaw`] variant, and the family [`EXACT`], [`LAMMPS`] or [`LIGGGHTS`]
-/// (the preset, transports and rolling conventions, see [`fold`]). A new scene is a new row
+/// [`RollingLaw`] variant (`None`, `Epsd` with the family's stiffness rule, or `Cdt` in either
+/// form), the twisting law a [`TwistingLaw`] variant, and the family [`EXACT`], [`LAMMPS`] or
+/// [`LIGGGHTS`] (the preset, transports and rolling conventions, see [`fold`]). A new scene is a new row
 /// here, plus what docs/performance.md (*Adding a scene*) lists as kept by hand: the
 /// `RSL_SCENE_*` constant (the header generator reads constants literally), a test model and
 /// the benchmark's rows.
@@ -113,48 +113,69 @@ macro_rules! with_scenes {
                 /// the elastic normal force `k_n delta` (angle or length form), no twisting law.
                 SlidingCdtLiggghts = 17, "slide+cdt/liggghts", (true, Cdt, None, LIGGGHTS)
             }
+            {
+                /// LIGGGHTS_3_8 preset (`tangential history rolling_friction epsd2`): linear
+                /// sliding (projected, clipped on the spring alone) + EPSD rolling with the
+                /// stiffness `k_t R_r^2` derived from the contact's sliding stiffness (angle or
+                /// length form; given damping, dashpot below the limit), no twisting law.
+                SlidingEpsd2Liggghts = 18, "slide+epsd2/liggghts", (true, Epsd, None, LIGGGHTS)
+            }
         }
     };
 }
 pub(crate) use with_scenes;
 
 /// What a family of scenes fixes besides the laws: the preset, the transport of each spring,
-/// and the EPSD rolling law's form and damping mode (unread for the other rolling laws).
+/// and the EPSD rolling law's form, stiffness rule and damping mode (unread for the other
+/// rolling laws).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Family {
     preset: Preset,
     sliding_transport: Transport,
     rolling_transport: Transport,
-    rolling_form: RollingForm,
+    /// The EPSD law's form, or `None`: the model's, a run-time choice (one product per
+    /// contact), which the family's EPSD rows then take in either form.
+    rolling_form: Option<RollingForm>,
+    /// Where the EPSD law's stiffness comes from (its damping is always given).
+    rolling_stiffness: RollingStiffness,
     /// When the EPSD rolling dashpot acts (unread by the other rolling laws).
     rolling_damping_mode: DampingMode,
 }
 
-/// The objective scenes: exact transport of both springs, length form, dashpot always.
+/// The objective scenes: exact transport of both springs, length form, given stiffness,
+/// dashpot always.
 pub(crate) const EXACT: Family = Family {
     preset: Preset::Objective,
     sliding_transport: Transport::Exact,
     rolling_transport: Transport::Exact,
-    rolling_form: RollingForm::Length,
+    rolling_form: Some(RollingForm::Length),
+    rolling_stiffness: RollingStiffness::Given,
     rolling_damping_mode: DampingMode::Always,
 };
 /// The LAMMPS scenes: the LAMMPS_2021 preset, project-rescale transport of both springs,
-/// length form, dashpot always.
+/// length form, given stiffness, dashpot always.
 pub(crate) const LAMMPS: Family = Family {
     preset: Preset::Lammps2021,
     sliding_transport: Transport::ProjectRescale,
     rolling_transport: Transport::ProjectRescale,
-    rolling_form: RollingForm::Length,
+    rolling_form: Some(RollingForm::Length),
+    rolling_stiffness: RollingStiffness::Given,
     rolling_damping_mode: DampingMode::Always,
 };
-/// The LIGGGHTS scenes: the LIGGGHTS_3_8 preset as `Model::with_preset` sets it up: the
-/// sliding spring projected, the rolling history not transported, angle form, dashpot only
-/// below the limit.
+/// The LIGGGHTS scenes: the LIGGGHTS_3_8 preset as `Model::with_preset` sets it up (the
+/// sliding spring projected, the rolling history not transported, the dashpot only below the
+/// limit), with LIGGGHTS' `epsd2` rule for the EPSD stiffness (`k_t R_r^2`; its `epsd` and
+/// `epsd3` rules need masses, which a batch does not take). The rolling form is the model's: a
+/// batch takes no per-contact `eta`, so the length form (one `mu_r`, times the rolling radius
+/// `R_eff`) is how a host gives each contact of unequal spheres LIGGGHTS' limit `mu_r R_eff f`,
+/// and the angle form (LIGGGHTS' own, which the length form's EPSD spring follows only to about
+/// 5e-7 once the normal turns) serves pairs of one `R_eff`.
 pub(crate) const LIGGGHTS: Family = Family {
     preset: Preset::Liggghts38,
     sliding_transport: Transport::Project,
     rolling_transport: Transport::None,
-    rolling_form: RollingForm::Angle,
+    rolling_form: None,
+    rolling_stiffness: RollingStiffness::Epsd2,
     rolling_damping_mode: DampingMode::BelowLimit,
 };
 
@@ -240,11 +261,14 @@ pub fn fold(scene: Scene, model: &Model) -> Model {
     };
     m.rolling.law = rolling;
     // The cdt law keeps the model's form (a run-time choice of one product, `eta f` or
-    // `mu_r R_r f`): a batch takes no per-contact `eta`, so the length form is how a host
-    // gives each contact LIGGGHTS' `mu_r R_eff` (the rolling radius) with one `mu_r`.
+    // `mu_r R_r f`), and so does the EPSD law of a family without a form: a batch takes no
+    // per-contact `eta`, so the length form is how a host gives each contact LIGGGHTS'
+    // `mu_r R_eff` (the rolling radius) with one `mu_r`.
     if rolling == RollingLaw::Epsd {
-        m.rolling.form = family.rolling_form;
-        m.rolling.stiffness_rule = RollingStiffness::Given;
+        if let Some(form) = family.rolling_form {
+            m.rolling.form = form;
+        }
+        m.rolling.stiffness_rule = family.rolling_stiffness;
         m.rolling.damping_rule = RollingDamping::Given;
         m.rolling.damping_mode = family.rolling_damping_mode;
     }

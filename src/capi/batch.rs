@@ -125,6 +125,15 @@ pub const RSL_SCENE_SLIDING_TWISTING_EXACT: u32 = 16;
 /// the elastic normal force `k_n delta`: the call needs `normal_stiffness`), no twisting law.
 /// The length form gives each contact LIGGGHTS' moment `mu_r R_eff k_n delta` from one `mu_r`.
 pub const RSL_SCENE_SLIDING_CDT_LIGGGHTS: u32 = 17;
+/// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction epsd2`), linear
+/// sliding (projected, no rescale) + EPSD rolling (`RSL_ROLLING_EPSD`) with the stiffness rule
+/// `RSL_STIFFNESS_EPSD2` (`k_t R_r^2`, from each contact's sliding stiffness: per-contact `k_t`
+/// through `rsl_batch_step_params` gives each contact its own), given damping acting below the
+/// limit only, either form, no twisting law. The angle form matches LIGGGHTS to rounding with
+/// one `eta` for every contact; the length form gives each contact LIGGGHTS' limit
+/// `mu_r R_eff f` from one `mu_r`, but keeps the spring as a displacement where LIGGGHTS keeps
+/// the moment (the two part slowly once the normal turns).
+pub const RSL_SCENE_SLIDING_EPSD2_LIGGGHTS: u32 = 18;
 
 /// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
 #[repr(C)]
@@ -1926,6 +1935,10 @@ mod tests {
                 Scene::SlidingTwistingExact,
             ),
             (RSL_SCENE_SLIDING_CDT_LIGGGHTS, Scene::SlidingCdtLiggghts),
+            (
+                RSL_SCENE_SLIDING_EPSD2_LIGGGHTS,
+                Scene::SlidingEpsd2Liggghts,
+            ),
         ];
         assert_eq!(constants.len(), Scene::ALL.len());
         for (code, scene) in constants {

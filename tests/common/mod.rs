@@ -2,7 +2,9 @@
 #![allow(dead_code)]
 
 use rollslide::batch::Scene;
-use rollslide::laws::model::{Model, Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
+use rollslide::laws::model::{
+    Model, Preset, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
+};
 use rollslide::scalar::Vec3;
 
 /// Full law set (linear sliding + EPSD rolling + sds twisting) on a preset and transport, with
@@ -68,6 +70,15 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     slide_cdt_liggghts.rolling.law = RollingLaw::Cdt;
     slide_cdt_liggghts.rolling.friction = 0.05;
     slide_cdt_liggghts.rolling.rate_threshold = 1.0;
+    // LIGGGHTS' `tangential history rolling_friction epsd2`: the preset's transports and angle
+    // form, the rolling stiffness k_t R^2 from the sliding stiffness, a given dashpot (LIGGGHTS'
+    // epsd2 has none; non-zero here so that the dashpot's below-the-limit rule runs).
+    let mut slide_epsd2_liggghts = Model::with_preset(Preset::Liggghts38);
+    slide_epsd2_liggghts.sliding = full.sliding;
+    slide_epsd2_liggghts.rolling.law = RollingLaw::Epsd;
+    slide_epsd2_liggghts.rolling.stiffness_rule = RollingStiffness::Epsd2;
+    slide_epsd2_liggghts.rolling.damping = 0.2;
+    slide_epsd2_liggghts.rolling.friction = 0.05;
     vec![
         (full, Scene::FullExact),
         (lammps, Scene::FullLammps),
@@ -86,6 +97,7 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (twist, Scene::TwistingExact),
         (slide_twist, Scene::SlidingTwistingExact),
         (slide_cdt_liggghts, Scene::SlidingCdtLiggghts),
+        (slide_epsd2_liggghts, Scene::SlidingEpsd2Liggghts),
     ]
 }
 
