@@ -19,8 +19,8 @@ use crate::laws::model::{
 /// where `sliding` says whether the linear sliding law is on, the rolling law is a
 /// [`RollingLaw`] variant (`None`, `Epsd` with the family's stiffness rule, or `Cdt` in either
 /// form), the twisting law a [`TwistingLaw`] variant, and the family [`EXACT`], [`LAMMPS`] or
-/// [`LIGGGHTS`] (the preset, transports and rolling conventions, see [`fold`]). A new scene is a new row
-/// here, plus what docs/performance.md (*Adding a scene*) lists as kept by hand: the
+/// [`LIGGGHTS`] (the preset, transports and rolling conventions, see [`fold`]). A new scene is
+/// a new row here, plus what docs/performance.md (*Adding a scene*) lists as kept by hand: the
 /// `RSL_SCENE_*` constant (the header generator reads constants literally), a test model and
 /// the benchmark's rows.
 macro_rules! with_scenes {
