@@ -30,6 +30,22 @@ static void add_loads(rsl_vec3 *f, rsl_vec3 *t, uint32_t i, uint32_t j,
     t[j].x += l->torque2.x, t[j].y += l->torque2.y, t[j].z += l->torque2.z;
 }
 
+/* Per-contact reference of contact c of scene(): rsl_contact_step with its k_t and gamma_t
+ * (RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING), as the *_params batch calls pass
+ * them; the loads go to *l. */
+static int32_t step_with_params(const rsl_model *m, const rsl_sphere *p, const uint32_t *pairs,
+                                const double *fn, const double *kt, const double *gt, double dt,
+                                int c, rsl_contact_state *state, rsl_contact_loads *l) {
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.normal_force = fn[c];
+    in.dt = dt;
+    in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
+    in.sliding_stiffness = kt[c];
+    in.sliding_damping = gt[c];
+    return rsl_contact_step(m, &p[pairs[2 * c]], &p[pairs[2 * c + 1]], &in, state, l);
+}
+
 /* EPSD rolling with given coefficients (the preset's form and damping mode kept). */
 static void set_rolling_epsd(rsl_model *m) {
     rsl_rolling_params rp;
@@ -442,16 +458,9 @@ void test_batch_liggghts_epsd2_scene(void) {
         memset(fr, 0, sizeof fr);
         memset(tr, 0, sizeof tr);
         for (int c = 0; c < NC; c++) {
-            rsl_contact_input in;
-            memset(&in, 0, sizeof in);
-            in.normal_force = fn[c];
-            in.dt = dt;
-            in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
-            in.sliding_stiffness = kt[c];
-            in.sliding_damping = gt[c];
             const uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
             rsl_contact_loads l;
-            CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &l), RSL_OK);
+            CHECK_STATUS(step_with_params(m, p, pairs, fn, kt, gt, dt, c, &sr[c], &l), RSL_OK);
             const rsl_vec3 mr = l.rolling_moment;
             const double moment = sqrt(mr.x * mr.x + mr.y * mr.y + mr.z * mr.z);
             CHECK(moment <= 0.1 * r_eff * fn[c] * (1 + 1e-12));
@@ -522,15 +531,9 @@ void test_batch_contact_params(void) {
     rsl_contact_loads ref[NC];
     for (int step = 0; step < 3; step++) {
         for (int c = 0; c < NC; c++) {
-            rsl_contact_input in;
-            memset(&in, 0, sizeof in);
-            in.normal_force = fn[c];
-            in.dt = dt;
-            in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
-            in.sliding_stiffness = kt[c];
-            in.sliding_damping = gt[c];
+            /* b1[c], b2[c] are contact c's particles */
             rsl_contact_loads l;
-            CHECK_STATUS(rsl_contact_step(m, &b1[c], &b2[c], &in, &sr[c], &l), RSL_OK);
+            CHECK_STATUS(step_with_params(m, p, pairs, fn, kt, gt, dt, c, &sr[c], &l), RSL_OK);
             if (step == 2) ref[c] = l;
         }
         CHECK_STATUS(rsl_batch_step_contacts_params(m, b1, b2, NC, fn, NULL, &params, dt, NULL,
@@ -595,16 +598,9 @@ void test_batch_step_params(void) {
         memset(fb, 0, sizeof fb);
         memset(tb, 0, sizeof tb);
         for (int c = 0; c < NC; c++) {
-            rsl_contact_input in;
-            memset(&in, 0, sizeof in);
-            in.normal_force = fn[c];
-            in.dt = dt;
-            in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
-            in.sliding_stiffness = kt[c];
-            in.sliding_damping = gt[c];
             const uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
             rsl_contact_loads l;
-            CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &l), RSL_OK);
+            CHECK_STATUS(step_with_params(m, p, pairs, fn, kt, gt, dt, c, &sr[c], &l), RSL_OK);
             add_loads(fr, tr, i, j, &l);
         }
         CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &params, dt, NULL, sb,

@@ -67,6 +67,19 @@ impl Hertz {
     }
 }
 
+/// The LIGGGHTS_3_8 preset with the linear sliding law of a material (`params["materials"]`):
+/// its friction coefficient, the stiffness and damping given per contact (Hertz, above).
+fn liggghts_model(mat: &serde_json::Value) -> Model {
+    let mut model = Model::with_preset(Preset::Liggghts38);
+    model.sliding = SlidingParams {
+        law: SlidingLaw::Linear,
+        stiffness: 0.0,
+        damping: 0.0,
+        friction: mat["coefficientFriction"].as_f64().unwrap(),
+    };
+    model
+}
+
 /// The worst error of the per-contact step against LIGGGHTS over the rows of case `name`
 /// (relative to the case's largest load), and its step. In the angle form (LIGGGHTS' own) the
 /// rolling limit length is `eta = mu_r R_eff`, given per contact; in the length form the model
@@ -83,13 +96,7 @@ fn per_contact_error(
     let mu_r = f("coefficientRollingFriction");
     let law = params["rolling_friction"].as_str().unwrap();
 
-    let mut model = Model::with_preset(Preset::Liggghts38);
-    model.sliding = SlidingParams {
-        law: SlidingLaw::Linear,
-        stiffness: 0.0,
-        damping: 0.0,
-        friction: f("coefficientFriction"),
-    };
+    let mut model = liggghts_model(mat);
     model.rolling.law = if law == "cdt" {
         RollingLaw::Cdt
     } else {
@@ -266,13 +273,7 @@ fn liggghts_scene_kernels_reproduce_liggghts_through_the_batch_call() {
         let mat = &params["materials"];
         let f = |k: &str| mat[k].as_f64().unwrap();
         let hertz = Hertz::of(mat);
-        let mut model = Model::with_preset(Preset::Liggghts38);
-        model.sliding = SlidingParams {
-            law: SlidingLaw::Linear,
-            stiffness: 0.0,
-            damping: 0.0,
-            friction: f("coefficientFriction"),
-        };
+        let mut model = liggghts_model(mat);
         let mu_r = f("coefficientRollingFriction");
         let scene = if law == "cdt" {
             model.rolling.law = RollingLaw::Cdt;
