@@ -134,6 +134,9 @@
  *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
  *                   midplane branches): not the baseline's physics. generic(X) is the model
  *                   of X with RSL_BATCH_GENERIC (the run-time-decision kernel).
+ *   percontact_acc_c[SCENE]  workload A only: rsl_contact_step_accumulate per contact on the
+ *                   model of each of those scenes (not the generic(X) ones: the per-contact call
+ *                   has no such switch), k_n passed per contact.
  * LOADS_DIFF: max |difference| of the accumulated forces and torques from the set's baseline,
  * relative to the largest baseline force (torque) component; STATE_DIFF: the same for the
  * springs, twisting angle and normal of the states after the call; FLAGS: number of contacts
@@ -859,6 +862,19 @@ static void accumulate_or_die(const scene *s, size_t c, const rsl_sphere *b1,
     }
 }
 
+/* percontact_acc with the per-contact k_n (s->kn) in the input, which the models of the other
+ * scenes may read (LIGGGHTS' cdt): the rows percontact_acc_c[SCENE]. */
+static void percontact_acc_kn(scene *s) {
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.dt = DT;
+    for (size_t c = 0; c < s->nc; c++) {
+        in.normal_force = s->fn[c];
+        in.normal_stiffness = s->kn[c];
+        accumulate_or_die(s, c, &s->p[s->pairs[2 * c]], &s->p[s->pairs[2 * c + 1]], &in);
+    }
+}
+
 static void percontact_fill(scene *s) {
     rsl_contact_input in;
     memset(&in, 0, sizeof in);
@@ -1466,6 +1482,10 @@ int main(int argc, char **argv) {
                     /* the generic kernel of the full set has the baseline's physics */
                     row(g, name, t, extra[k].model == set_model[set], &s);
                 }
+                /* the per-contact call on the scene's model (it has no generic switch) */
+                snprintf(name, sizeof name, "percontact_acc_c[%s]", extra[k].name);
+                if (!extra[k].flags && want(name))
+                    row(g, name, timeit(&s, percontact_acc_kn, reps), 0, &s);
             }
         }
         /* the same set on the no-slip histories: the baseline's best case */
