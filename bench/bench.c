@@ -1171,14 +1171,21 @@ static rsl_model *make_model(int32_t preset, int sliding, int rolling, int twist
     return m;
 }
 
-/* LIGGGHTS' `tangential history rolling_friction cdt`: linear sliding (KT, GT, MU) and the cdt
- * moment eta k_n delta, eta = MUR times the radius (0.5), above a relative spin of 0.5 rad/s. */
-static rsl_model *make_cdt_model(void) {
+/* A LIGGGHTS_3_8 model with linear sliding (KT, GT, MU); its rolling parameters (the preset's)
+ * in *rp, for the caller to change and set. */
+static rsl_model *make_liggghts_model(rsl_rolling_params *rp) {
     rsl_model *m = NULL;
     check(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), "rsl_model_new(LIGGGHTS)");
     check(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, KT, GT, MU), "rsl_model_set_sliding");
+    check(rsl_model_get_rolling(m, rp), "rsl_model_get_rolling");
+    return m;
+}
+
+/* LIGGGHTS' `tangential history rolling_friction cdt`: linear sliding (KT, GT, MU) and the cdt
+ * moment eta k_n delta, eta = MUR times the radius (0.5), above a relative spin of 0.5 rad/s. */
+static rsl_model *make_cdt_model(void) {
     rsl_rolling_params rp;
-    check(rsl_model_get_rolling(m, &rp), "rsl_model_get_rolling");
+    rsl_model *m = make_liggghts_model(&rp);
     rp.law = RSL_ROLLING_CDT;
     rp.friction = MUR * 0.5;
     rp.rate_threshold = 0.5;
@@ -1190,11 +1197,8 @@ static rsl_model *make_cdt_model(void) {
  * rolling with the stiffness KT R_eff^2 and the limit MUR R_eff f_n (the length form), no rolling
  * dashpot (LIGGGHTS' epsd2 has none). */
 static rsl_model *make_epsd2_model(void) {
-    rsl_model *m = NULL;
-    check(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), "rsl_model_new(LIGGGHTS)");
-    check(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, KT, GT, MU), "rsl_model_set_sliding");
     rsl_rolling_params rp;
-    check(rsl_model_get_rolling(m, &rp), "rsl_model_get_rolling");
+    rsl_model *m = make_liggghts_model(&rp);
     rp.law = RSL_ROLLING_EPSD;
     rp.form = RSL_FORM_LENGTH;
     rp.stiffness_rule = RSL_STIFFNESS_EPSD2;

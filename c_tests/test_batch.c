@@ -46,6 +46,13 @@ static int32_t step_with_params(const rsl_model *m, const rsl_sphere *p, const u
     return rsl_contact_step(m, &p[pairs[2 * c]], &p[pairs[2 * c + 1]], &in, state, l);
 }
 
+/* Double-precision options of SIMD level lv in *o; 0 when the CPU lacks the level. */
+static int level_options(uint32_t lv, rsl_batch_options *o) {
+    memset(o, 0, sizeof *o);
+    o->simd = lv;
+    return (rsl_batch_simd_support() >> lv) & 1;
+}
+
 /* EPSD rolling with given coefficients (the preset's form and damping mode kept). */
 static void set_rolling_epsd(rsl_model *m) {
     rsl_rolling_params rp;
@@ -368,12 +375,9 @@ void test_batch_liggghts_cdt_scene(void) {
             add_loads(fr, tr, i, j, &l);
         }
     CHECK(turning > 0);
-    uint32_t support = rsl_batch_simd_support();
     for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
-        if (!((support >> lv) & 1)) continue;
         rsl_batch_options o;
-        memset(&o, 0, sizeof o);
-        o.simd = lv;
+        if (!level_options(lv, &o)) continue;
         rsl_vec3 f[NP], t[NP], fh[NP], th[NP];
         rsl_contact_state s[NC];
         double h[NC * 7];
@@ -469,12 +473,9 @@ void test_batch_liggghts_epsd2_scene(void) {
         }
     }
     CHECK(at_limit > 0 && at_limit < NC);
-    uint32_t support = rsl_batch_simd_support();
     for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
-        if (!((support >> lv) & 1)) continue;
         rsl_batch_options o;
-        memset(&o, 0, sizeof o);
-        o.simd = lv;
+        if (!level_options(lv, &o)) continue;
         rsl_vec3 f[NP], t[NP], fp[NP], tp[NP];
         rsl_contact_state s[NC], plain[NC];
         memset(s, 0, sizeof s);

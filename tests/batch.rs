@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{full_model, scene_models, Rng};
+use common::{full_model, length_form_models, scene_models, Rng};
 use rollslide::batch::history::{history_layout, words_from_state, HistoryLayout};
 use rollslide::batch::{
     BatchReport, ContactStates, ContactSteps, Gather, IndexedStates, ModelSliding,
@@ -60,25 +60,9 @@ fn models() -> Vec<(Model, Scene)> {
     unlimited.twisting.friction = f64::INFINITY;
     unlimited.validate().unwrap();
     let mut models = scene_models();
-    // LIGGGHTS' cdt in the length form (the moment mu_r R_r k_n delta): the scene keeps the
-    // form a run-time choice.
-    let mut cdt_length = models
-        .iter()
-        .find(|(_, s)| *s == Scene::SlidingCdtLiggghts)
-        .unwrap()
-        .0;
-    cdt_length.rolling.form = rollslide::laws::model::RollingForm::Length;
-    cdt_length.rolling.friction = 0.1;
-    models.push((cdt_length, Scene::SlidingCdtLiggghts));
-    // LIGGGHTS' epsd2 in the length form (k_r = k_t, limit mu_r R_r f): also a run-time choice.
-    let mut epsd2_length = models
-        .iter()
-        .find(|(_, s)| *s == Scene::SlidingEpsd2Liggghts)
-        .unwrap()
-        .0;
-    epsd2_length.rolling.form = rollslide::laws::model::RollingForm::Length;
-    epsd2_length.rolling.friction = 0.1;
-    models.push((epsd2_length, Scene::SlidingEpsd2Liggghts));
+    // The LIGGGHTS scenes' models in the length form too: those scenes keep the form a
+    // run-time choice.
+    models.extend(length_form_models());
     models.push((unlimited, Scene::FullExact));
     models.push((yade, Scene::Generic));
     models.push((viscous, Scene::Generic));

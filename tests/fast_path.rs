@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{full_model, scene_models, Rng};
+use common::{full_model, length_form_models, scene_models, Rng};
 use rollslide::batch::scene::fold;
 use rollslide::batch::Scene;
 use rollslide::decompose::Sphere;
@@ -40,32 +40,14 @@ fn models() -> Vec<Model> {
     marshall.twisting.law = TwistingLaw::Marshall;
     marshall.sliding_transport = Transport::FirstOrder;
     marshall.rolling_transport = Transport::FirstOrder;
-    let mut models: Vec<Model> = scene_models().into_iter().map(|(m, _)| m).collect();
-    // LIGGGHTS' cdt in the length form: the slide+cdt/liggghts scene keeps the form a run-time
-    // choice.
-    let mut cdt_length = *models
-        .iter()
-        .find(|m| Scene::classify(m) == Scene::SlidingCdtLiggghts)
-        .unwrap();
-    cdt_length.rolling.form = RollingForm::Length;
-    cdt_length.rolling.friction = 0.1;
-    // And LIGGGHTS' epsd2 in the length form (slide+epsd2/liggghts, the same run-time choice).
-    let mut epsd2_length = *models
-        .iter()
-        .find(|m| Scene::classify(m) == Scene::SlidingEpsd2Liggghts)
-        .unwrap();
-    epsd2_length.rolling.form = RollingForm::Length;
-    epsd2_length.rolling.friction = 0.1;
-    models.extend([
-        cdt_length,
-        epsd2_length,
-        energy,
-        yade,
-        liggghts,
-        derived,
-        ratio,
-        marshall,
-    ]);
+    // The scene models, and the LIGGGHTS scenes' models in the length form too (those scenes
+    // keep the form a run-time choice).
+    let mut models: Vec<Model> = scene_models()
+        .into_iter()
+        .chain(length_form_models())
+        .map(|(m, _)| m)
+        .collect();
+    models.extend([energy, yade, liggghts, derived, ratio, marshall]);
     for m in &models {
         m.validate().expect("test model is valid");
     }

@@ -3,7 +3,7 @@
 
 use rollslide::batch::Scene;
 use rollslide::laws::model::{
-    Model, Preset, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
+    Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
 };
 use rollslide::scalar::Vec3;
 
@@ -99,6 +99,21 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
         (slide_cdt_liggghts, Scene::SlidingCdtLiggghts),
         (slide_epsd2_liggghts, Scene::SlidingEpsd2Liggghts),
     ]
+}
+
+/// The scene models of the LIGGGHTS family (whose scenes leave the rolling form to the model, a
+/// run-time choice) in the length form, `mu_r` = 0.1 (cdt: the moment `mu_r R_r k_n delta`;
+/// epsd2: `k_r = k_t`, limit `mu_r R_r f`), with the scene each must still get.
+pub fn length_form_models() -> Vec<(Model, Scene)> {
+    scene_models()
+        .into_iter()
+        .filter(|(m, _)| m.preset == Preset::Liggghts38)
+        .map(|(mut m, s)| {
+            m.rolling.form = RollingForm::Length;
+            m.rolling.friction = 0.1;
+            (m, s)
+        })
+        .collect()
 }
 
 /// SplitMix64: a small, seeded, reproducible generator (no dependency needed).
