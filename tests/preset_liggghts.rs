@@ -80,6 +80,41 @@ fn liggghts_model(mat: &serde_json::Value) -> Model {
     model
 }
 
+/// The worst difference of the loads (force and torque on each body) from a case's reference
+/// rows, relative to the case's largest reference load, and the step where it was.
+struct Worst {
+    err: f64,
+    at: usize,
+    scale: f64,
+}
+
+impl Worst {
+    fn new() -> Worst {
+        Worst {
+            err: 0.0,
+            at: 0,
+            scale: 1e-300,
+        }
+    }
+
+    /// Adds step `step`'s loads `[force1, torque1, force2, torque2]` against `row`'s.
+    fn add(&mut self, step: usize, row: &Row, loads: [rollslide::scalar::Vec3<f64>; 4]) {
+        let want = [row.v("f1{}"), row.v("t1{}"), row.v("f2{}"), row.v("t2{}")];
+        for (got, want) in loads.iter().zip(&want) {
+            self.scale = self.scale.max(want.amax());
+            let err = (got - want).amax();
+            if err > self.err {
+                (self.err, self.at) = (err, step);
+            }
+        }
+    }
+
+    /// The worst relative difference and its step.
+    fn relative(&self) -> (f64, usize) {
+        (self.err / self.scale, self.at)
+    }
+}
+
 /// The worst error of the per-contact step against LIGGGHTS over the rows of case `name`
 /// (relative to the case's largest load), and its step. In the angle form (LIGGGHTS' own) the
 /// rolling limit length is `eta = mu_r R_eff`, given per contact; in the length form the model
@@ -129,7 +164,7 @@ fn per_contact_error(
     model.validate().unwrap();
     let dt = params["dt"].as_f64().unwrap();
     let mut state = ContactState::default();
-    let (mut worst, mut at, mut scale) = (0.0f64, 0usize, 1e-300f64);
+    let mut worst = Worst::new();
     for row in rows {
         let step = row.f("step") as usize;
         let (b1, b2) = (row_sphere(row, "1"), row_sphere(row, "2"));
@@ -150,21 +185,10 @@ fn per_contact_error(
         input.setup = step == 0;
         let out = contact_step_pair(&model, &b1, &b2, &input, &mut state)
             .unwrap_or_else(|e| panic!("{name} step {step}: {e}"));
-        let pairs = [
-            (out.loads.force1, row.v("f1{}")),
-            (out.loads.torque1, row.v("t1{}")),
-            (out.loads.force2, row.v("f2{}")),
-            (out.loads.torque2, row.v("t2{}")),
-        ];
-        for (got, want) in &pairs {
-            scale = scale.max(want.amax());
-            let err = (got - want).amax();
-            if err > worst {
-                (worst, at) = (err, step);
-            }
-        }
+        let l = &out.loads;
+        worst.add(step, row, [l.force1, l.torque1, l.force2, l.torque2]);
     }
-    (worst / scale, at)
+    worst.relative()
 }
 
 #[test]
@@ -301,7 +325,7 @@ fn liggghts_scene_kernels_reproduce_liggghts_through_the_batch_call() {
                 specialise: true,
             };
             let mut state = rsl_contact_state::default();
-            let (mut worst, mut at, mut scale) = (0.0f64, 0usize, 1e-300f64);
+            let mut worst = Worst::new();
             for row in rows {
                 let step = row.f("step") as usize;
                 let (b1, b2) = (row_sphere(row, "1"), row_sphere(row, "2"));
@@ -351,21 +375,9 @@ fn liggghts_scene_kernels_reproduce_liggghts_through_the_batch_call() {
                     };
                     (v(l.force1), v(l.torque1), v(l.torque2))
                 };
-                let pairs = [
-                    (force1, row.v("f1{}")),
-                    (torque1, row.v("t1{}")),
-                    (-force1, row.v("f2{}")),
-                    (torque2, row.v("t2{}")),
-                ];
-                for (got, want) in &pairs {
-                    scale = scale.max(want.amax());
-                    let err = (got - want).amax();
-                    if err > worst {
-                        (worst, at) = (err, step);
-                    }
-                }
+                worst.add(step, row, [force1, torque1, -force1, torque2]);
             }
-            worst /= scale;
+            let (worst, at) = worst.relative();
             println!(
                 "{name:22} {simd:?} {}: worst relative error {worst:.2e} at step {at}",
                 scene.name()
