@@ -1425,6 +1425,14 @@ void test_bad_input_batch_lengths_and_other_contacts(void) {
     bo = scalar;
     bo.simd = 99;
     CHECK_STATUS(rsl_batch_step_contacts(m, b1, b2, NB, fn, NULL, 1e-3, &bo, st, out, &rep), RSL_ERR_INVALID_ARGUMENT);
+    /* no flag is defined: any set bit is refused (bit 0 was RSL_BATCH_GENERIC before 0.3.0) */
+    for (int bit = 0; bit < 32; bit += 31) {
+        bo = scalar;
+        bo.flags = 1u << bit;
+        CHECK_STATUS(rsl_batch_step_contacts(m, b1, b2, NB, fn, NULL, 1e-3, &bo, st, out, &rep), RSL_ERR_INVALID_ARGUMENT);
+        CHECK(strstr(rsl_last_error_message(), "flags") != NULL);
+        CHECK(rep.processed == 0 && rep.failed == 0);
+    }
     CHECK_STATUS(rsl_batch_step_contacts(m, b1, b2, NB, fn, NULL, 1e-3, MIS(rsl_batch_options), st, out, &rep), RSL_ERR_MISALIGNED);
     CHECK_STATUS(rsl_batch_step_contacts(m, MIS(rsl_sphere), b2, NB, fn, NULL, 1e-3, &scalar, st, out, &rep), RSL_ERR_MISALIGNED);
     CHECK(all_pattern(out, sizeof out));

@@ -5,7 +5,8 @@
 #define NP 6
 #define NC 5
 
-static void scene(rsl_sphere p[NP], uint32_t pairs[2 * NC], double fn[NC]) {
+/* A chain of NP touching particles, contact c between particles c and c + 1, f_n 10 + c. */
+static void chain(rsl_sphere p[NP], uint32_t pairs[2 * NC], double fn[NC]) {
     for (int i = 0; i < NP; i++) {
         memset(&p[i], 0, sizeof p[i]);
         p[i].position = rsl_test_vec(0.95 * i, 0.01 * i * i, 0.0);
@@ -30,7 +31,7 @@ static void add_loads(rsl_vec3 *f, rsl_vec3 *t, uint32_t i, uint32_t j,
     t[j].x += l->torque2.x, t[j].y += l->torque2.y, t[j].z += l->torque2.z;
 }
 
-/* Per-contact reference of contact c of scene(): rsl_contact_step with its k_t and gamma_t
+/* Per-contact reference of contact c of chain(): rsl_contact_step with its k_t and gamma_t
  * (RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING), as the *_params batch calls pass
  * them; the loads go to *l. */
 static int32_t step_with_params(const rsl_model *m, const rsl_sphere *p, const uint32_t *pairs,
@@ -77,11 +78,8 @@ void test_batch_matches_per_contact_calls(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     rsl_model *m = full_model();
-    uint32_t scene_code = 99;
-    CHECK_STATUS(rsl_batch_scene(m, &scene_code), RSL_OK);
-    CHECK(scene_code == RSL_SCENE_FULL_EXACT);
     const double dt = 1e-4;
     /* Reference: per-contact calls accumulated by hand. */
     rsl_vec3 fr[NP], tr[NP];
@@ -121,7 +119,7 @@ void test_batch_matches_per_contact_calls(void) {
             CHECK_STATUS(rsl_batch_step(m, p, NP, pairs, NC, fn, NULL, dt, &o, s, f, t, &rep),
                          RSL_OK);
             CHECK(rep.processed == NC && rep.failed == 0 && rep.first_failed == RSL_BATCH_NONE);
-            CHECK(rep.simd == lv && rep.scene == RSL_SCENE_FULL_EXACT);
+            CHECK(rep.simd == lv && rep.first_status == RSL_OK);
             /* double: identical (tolerance 0); single: 1e-5 of the load scale (f_n ~ 10). */
             double tol = prec ? 1e-4 : 0.0;
             for (int i = 0; i < NP; i++) {
@@ -162,7 +160,7 @@ void test_batch_skips_invalid_contacts(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     pairs[2 * 1 + 1] = 77;   /* contact 1: index out of range */
     fn[3] = NAN;             /* contact 3: non-finite normal force */
     rsl_model *m = full_model();
@@ -215,7 +213,7 @@ void test_batch_packed_histories(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     size_t words = 0;
     const int32_t presets[4] = {RSL_PRESET_OBJECTIVE, RSL_PRESET_LAMMPS_2021,
                                 RSL_PRESET_LIGGGHTS_3_8, RSL_PRESET_YADE_2023};
@@ -291,9 +289,28 @@ void test_batch_packed_histories(void) {
                                                 t2, &r2),
                          RSL_OK);
         }
-        CHECK(r1.processed == NC && r2.processed == NC && r1.scene == r2.scene);
-        if (k == 2) CHECK(r2.scene == RSL_SCENE_ROLLING_TWISTING_LAMMPS);
+        CHECK(r1.processed == NC && r2.processed == NC && r1.failed == 0 && r2.failed == 0);
+        CHECK(r1.simd == r2.simd);
         CHECK(memcmp(f1, f2, sizeof f1) == 0 && memcmp(t1, t2, sizeof t1) == 0);
+        /* both equal per-contact rsl_contact_step, the loads added in contact order */
+        rsl_contact_state sr[NC];
+        memset(sr, 0, sizeof sr);
+        rsl_vec3 fr[NP], tr[NP];
+        memset(fr, 0, sizeof fr);
+        memset(tr, 0, sizeof tr);
+        for (int step = 0; step < 2; step++)
+            for (int c = 0; c < NC; c++) {
+                rsl_contact_input in;
+                memset(&in, 0, sizeof in);
+                in.normal_force = fn[c];
+                in.dt = 1e-4;
+                const uint32_t i = pairs[2 * c], j = pairs[2 * c + 1];
+                rsl_contact_loads l;
+                CHECK_STATUS(rsl_contact_step(m, &p[i], &p[j], &in, &sr[c], &l), RSL_OK);
+                add_loads(fr, tr, i, j, &l);
+            }
+        CHECK(memcmp(f1, fr, sizeof f1) == 0 && memcmp(t1, tr, sizeof t1) == 0);
+        CHECK(memcmp(s, sr, sizeof s) == 0);
         for (int c = 0; c < NC; c++) {
             double packed[13];
             CHECK_STATUS(rsl_history_from_state(m, &s[c], packed), RSL_OK);
@@ -323,15 +340,15 @@ void test_batch_packed_histories(void) {
     }
 }
 
-/* LIGGGHTS' `tangential history rolling_friction cdt` has its scene kernel
- * (RSL_SCENE_SLIDING_CDT_LIGGGHTS): every batch call (state structs and packed histories, every
+/* LIGGGHTS' `tangential history rolling_friction cdt` law set (linear sliding, the cdt rolling
+ * law on k_n delta, no twisting law): every batch call (state structs and packed histories, every
  * SIMD level, double) equals per-contact rsl_contact_step bit for bit; the cdt moment is at most
  * eta k_n delta; without the per-contact k_n the call is refused and writes nothing. */
-void test_batch_liggghts_cdt_scene(void) {
+void test_batch_liggghts_cdt(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC], kn[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     for (int c = 0; c < NC; c++) kn[c] = 1e6 + 1e4 * c;
     rsl_model *m = NULL;
     CHECK_STATUS(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), RSL_OK);
@@ -342,9 +359,6 @@ void test_batch_liggghts_cdt_scene(void) {
     rp.friction = 0.05; /* eta (angle form): a length */
     rp.rate_threshold = 0.1;
     CHECK_STATUS(rsl_model_set_rolling(m, &rp), RSL_OK);
-    uint32_t code = 99;
-    CHECK_STATUS(rsl_batch_scene(m, &code), RSL_OK);
-    CHECK(code == RSL_SCENE_SLIDING_CDT_LIGGGHTS);
     const double dt = 1e-4;
     /* Reference: two per-contact steps from zero histories, the second's loads summed. */
     rsl_vec3 fr[NP], tr[NP];
@@ -398,8 +412,8 @@ void test_batch_liggghts_cdt_scene(void) {
                                                 &reph),
                          RSL_OK);
         }
-        CHECK(rep.processed == NC && rep.scene == RSL_SCENE_SLIDING_CDT_LIGGGHTS);
-        CHECK(reph.processed == NC && reph.scene == RSL_SCENE_SLIDING_CDT_LIGGGHTS);
+        CHECK(rep.processed == NC && rep.failed == 0 && rep.simd == lv);
+        CHECK(reph.processed == NC && reph.failed == 0 && reph.simd == lv);
         for (int i = 0; i < NP; i++) {
             CHECK_VEC(f[i], fr[i].x, fr[i].y, fr[i].z, 0.0);
             CHECK_VEC(t[i], tr[i].x, tr[i].y, tr[i].z, 0.0);
@@ -421,23 +435,24 @@ void test_batch_liggghts_cdt_scene(void) {
     rsl_model_free(m);
 }
 
-/* LIGGGHTS' `tangential history rolling_friction epsd2` has its scene kernel
- * (RSL_SCENE_SLIDING_EPSD2_LIGGGHTS), here in the length form (the limit mu_r R_eff f_n from
- * one mu_r) with LIGGGHTS' per-contact k_t and gamma_t through rsl_batch_step_params: at every
- * SIMD level (double) the loads and states equal per-contact rsl_contact_step with
- * RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING bit for bit; the rolling moment stays
- * within its limit, reached by some contacts and not others; the rolling stiffness k_t R^2 follows
- * each contact's k_t (without params, the model's k_t gives other rolling springs). */
-void test_batch_liggghts_epsd2_scene(void) {
+/* LIGGGHTS' `tangential history rolling_friction epsd2` law set (linear sliding, EPSD rolling
+ * with the stiffness rule RSL_STIFFNESS_EPSD2, no twisting law), here in the length form (the
+ * limit mu_r R_eff f_n from one mu_r) with LIGGGHTS' per-contact k_t and gamma_t through
+ * rsl_batch_step_params: at every SIMD level (double) the loads and states equal per-contact
+ * rsl_contact_step with RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING bit for bit; the
+ * rolling moment stays within its limit, reached by some contacts and not others; the rolling
+ * stiffness k_t R^2 follows each contact's k_t (without params, the model's k_t gives other
+ * rolling springs). */
+void test_batch_liggghts_epsd2(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC], kt[NC], gt[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     for (int c = 0; c < NC; c++) {
         kt[c] = 2e4 * (c + 1);
         gt[c] = 0.5 * c;
     }
-    const rsl_batch_contact_params params = {kt, gt};
+    const rsl_batch_contact_params params = {kt, gt, NULL};
     rsl_model *m = NULL;
     CHECK_STATUS(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), RSL_OK);
     CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
@@ -448,9 +463,6 @@ void test_batch_liggghts_epsd2_scene(void) {
     rp.stiffness_rule = RSL_STIFFNESS_EPSD2;
     rp.friction = 0.1; /* mu_r */
     CHECK_STATUS(rsl_model_set_rolling(m, &rp), RSL_OK);
-    uint32_t code = 99;
-    CHECK_STATUS(rsl_batch_scene(m, &code), RSL_OK);
-    CHECK(code == RSL_SCENE_SLIDING_EPSD2_LIGGGHTS);
     const double dt = 1e-4, r_eff = 0.25;
     enum { STEPS = 4 };
     /* Reference: per-contact steps from zero histories, the last step's loads summed. */
@@ -487,7 +499,7 @@ void test_batch_liggghts_epsd2_scene(void) {
             CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &params, dt, &o, s,
                                                f, t, &rep),
                          RSL_OK);
-            CHECK(rep.processed == NC && rep.scene == RSL_SCENE_SLIDING_EPSD2_LIGGGHTS);
+            CHECK(rep.processed == NC && rep.failed == 0 && rep.simd == lv);
             CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, NULL, dt, &o, plain,
                                                fp, tp, NULL),
                          RSL_OK);
@@ -513,7 +525,7 @@ void test_batch_contact_params(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     rsl_model *m = full_model();
     const double dt = 1e-4;
     double kt[NC], gt[NC];
@@ -528,7 +540,7 @@ void test_batch_contact_params(void) {
     memset(sr, 0, sizeof sr);
     memset(sb, 0, sizeof sb);
     rsl_batch_loads out[NC];
-    rsl_batch_contact_params params = {kt, gt};
+    rsl_batch_contact_params params = {kt, gt, NULL};
     rsl_contact_loads ref[NC];
     for (int step = 0; step < 3; step++) {
         for (int c = 0; c < NC; c++) {
@@ -580,7 +592,7 @@ void test_batch_step_params(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     rsl_model *m = full_model();
     const double dt = 1e-4;
     double kt[NC], gt[NC];
@@ -588,7 +600,7 @@ void test_batch_step_params(void) {
         kt[c] = 2e4 * (c + 1);
         gt[c] = 0.5 * c;
     }
-    rsl_batch_contact_params params = {kt, gt};
+    rsl_batch_contact_params params = {kt, gt, NULL};
     rsl_contact_state sr[NC], sb[NC];
     memset(sr, 0, sizeof sr);
     memset(sb, 0, sizeof sb);
@@ -650,7 +662,7 @@ void test_batch_step_params(void) {
     memcpy(before, sb, sizeof sb);
     rsl_vec3 f_before[NP];
     memcpy(f_before, fb, sizeof fb);
-    rsl_batch_contact_params odd = {(const double *)((const char *)kt + 1), NULL};
+    rsl_batch_contact_params odd = {(const double *)((const char *)kt + 1), NULL, NULL};
     CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &odd, dt, NULL, sb, fb, tb,
                                        &rep),
                  RSL_ERR_MISALIGNED);
@@ -668,12 +680,12 @@ void test_batch_step_indexed(void) {
     rsl_sphere p[NP];
     uint32_t pairs[2 * NC];
     double fn[NC];
-    scene(p, pairs, fn);
+    chain(p, pairs, fn);
     rsl_model *m = full_model();
     const double dt = 1e-4;
     double kt[NC];
     for (int c = 0; c < NC; c++) kt[c] = 3e4 * (c + 1);
-    rsl_batch_contact_params params = {kt, NULL};
+    rsl_batch_contact_params params = {kt, NULL, NULL};
     enum { NS = 2 * NC + 1 };
     rsl_contact_state slots[NS], buffer[NC];
     size_t index[NC];

@@ -698,11 +698,8 @@ int main(int argc, char **argv) {
     packing pk;
     make_packing(&pk, m);
     rsl_model *model = make_model();
-    uint32_t scene = 0;
-    if (rsl_batch_scene(model, &scene) != RSL_OK) die("rsl_batch_scene failed");
-    printf("parallel_forces: %zu spheres, %zu contacts, %d steps; rollslide %s, scene kernel %s\n",
-           pk.n, pk.nc, steps, rsl_version(),
-           scene == RSL_SCENE_FULL_LAMMPS ? "full/lammps" : "other");
+    printf("parallel_forces: %zu spheres, %zu contacts, %d steps; rollslide %s\n", pk.n, pk.nc,
+           steps, rsl_version());
 
     /* Thread counts 1, 2, 4, ... up to tmax. */
     int counts[8], ncounts = 0;

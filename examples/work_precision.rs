@@ -74,7 +74,7 @@ fn step1(
         out: &mut out,
         sliding: SlidingOverrides::NONE,
     };
-    let (r, _) = run_step(model, dt, &mut a, config(f32)).unwrap();
+    let r = run_step(model, dt, &mut a, config(f32)).unwrap();
     assert_eq!(r.failed, 0, "{:?}", r.first_error);
     *s = st[0];
 }

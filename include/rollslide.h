@@ -6,9 +6,10 @@
  * on body 1 unless named otherwise. Every fallible function returns an int32_t status
  * (RSL_OK = 0) and writes its outputs only on success.
  *
- * ABI: 0.2.0 breaks 0.1's. rsl_contact_input grew by 8 bytes (shear_adhesion, before flags):
- * rebuild against this header. The shared library's SONAME carries the minor version while the
- * major is 0 (librollslide.so.0.2), so a program built against 0.1 does not load it.
+ * ABI: 0.3.0 breaks 0.2's: the scene kernels' constants, rsl_batch_scene, RSL_BATCH_GENERIC and
+ * rsl_batch_report.scene are gone, and rsl_batch_contact_params gained `material`: rebuild
+ * against this header. The shared library's SONAME carries the minor version while the major is
+ * 0 (librollslide.so.0.3), so a program built against 0.2 does not load it.
  */
 
 #ifndef ROLLSLIDE_H
@@ -45,89 +46,8 @@
 // if absent.
 #define RSL_SIMD_AVX512 3
 
-// Batch flag: do not use a scene-specialised kernel (take the law decisions at run time).
-#define RSL_BATCH_GENERIC 1
-
 // Value of `rsl_batch_report.first_failed` when no contact failed.
 #define RSL_BATCH_NONE UINT64_MAX
-
-// Scene kernel (`rsl_batch_report.scene`, `rsl_batch_scene`): the generic kernel, which runs
-// any model the batch accepts (law decisions taken at run time).
-#define RSL_SCENE_GENERIC 0
-
-// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling (given
-// stiffness and damping, length form) + sds twisting, no energy bookkeeping.
-#define RSL_SCENE_FULL_EXACT 1
-
-// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting sds.
-#define RSL_SCENE_FULL_LAMMPS 2
-
-// Scene kernel: objective preset, exact transport, linear sliding only.
-#define RSL_SCENE_SLIDING_EXACT 3
-
-// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling.
-#define RSL_SCENE_SLIDING_ROLLING_EXACT 4
-
-// Scene kernel: LAMMPS_2021 preset, linear history sliding only.
-#define RSL_SCENE_SLIDING_LAMMPS 5
-
-// Scene kernel: LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
-#define RSL_SCENE_ROLLING_TWISTING_LAMMPS 6
-
-// Scene kernel: objective preset, exact transport, EPSD rolling + sds twisting, no sliding
-// law.
-#define RSL_SCENE_ROLLING_TWISTING_EXACT 7
-
-// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
-#define RSL_SCENE_SLIDING_ROLLING_LAMMPS 8
-
-// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall
-// (`RSL_TWISTING_MARSHALL`).
-#define RSL_SCENE_FULL_LAMMPS_MARSHALL 9
-
-// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling + twisting
-// marshall (`RSL_TWISTING_MARSHALL`).
-#define RSL_SCENE_FULL_EXACT_MARSHALL 10
-
-// Scene kernel: objective preset, exact transport, EPSD rolling only (no sliding or twisting
-// law).
-#define RSL_SCENE_ROLLING_EXACT 11
-
-// Scene kernel: LAMMPS_2021 preset, project-rescale transport, EPSD rolling only (no sliding or
-// twisting law).
-#define RSL_SCENE_ROLLING_LAMMPS 12
-
-// Scene kernel: LAMMPS_2021 preset, project-rescale transport, twisting sds only (no sliding or
-// rolling law).
-#define RSL_SCENE_TWISTING_LAMMPS 13
-
-// Scene kernel: LAMMPS_2021 preset, project-rescale transport, linear history sliding +
-// twisting sds (no rolling law).
-#define RSL_SCENE_SLIDING_TWISTING_LAMMPS 14
-
-// Scene kernel: objective preset, exact transport, twisting sds only (no sliding or rolling
-// law).
-#define RSL_SCENE_TWISTING_EXACT 15
-
-// Scene kernel: objective preset, exact transport, linear sliding + twisting sds (no rolling
-// law).
-#define RSL_SCENE_SLIDING_TWISTING_EXACT 16
-
-// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction cdt`), linear
-// sliding (projected, no rescale) + the cdt rolling law (`RSL_ROLLING_CDT`, either form, on
-// the elastic normal force `k_n delta`: the call needs `normal_stiffness`), no twisting law.
-// The length form gives each contact LIGGGHTS' moment `mu_r R_eff k_n delta` from one `mu_r`.
-#define RSL_SCENE_SLIDING_CDT_LIGGGHTS 17
-
-// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction epsd2`), linear
-// sliding (projected, no rescale) + EPSD rolling (`RSL_ROLLING_EPSD`) with the stiffness rule
-// `RSL_STIFFNESS_EPSD2` (`k_t R_r^2`, from each contact's sliding stiffness: per-contact `k_t`
-// through `rsl_batch_step_params` gives each contact its own), given damping acting below the
-// limit only, either form, no twisting law. The angle form matches LIGGGHTS to rounding with
-// one `eta` for every contact; the length form gives each contact LIGGGHTS' limit
-// `mu_r R_eff f` from one `mu_r`, but keeps the spring as a displacement where LIGGGHTS keeps
-// the moment (the two part slowly once the normal turns).
-#define RSL_SCENE_SLIDING_EPSD2_LIGGGHTS 18
 
 // Input flag: use `rsl_contact_input.sliding_stiffness` instead of the model's `k_t`.
 #define RSL_INPUT_SLIDING_STIFFNESS 1
@@ -372,14 +292,14 @@
 #define RSL_VERSION_MAJOR 0
 
 // Minor version of the header.
-#define RSL_VERSION_MINOR 2
+#define RSL_VERSION_MINOR 3
 
 // Patch version of the header.
 #define RSL_VERSION_PATCH 0
 
 // The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
-// PATCH` (0.2.0 is 200): `#if RSL_VERSION_NUMBER >= 200`.
-#define RSL_VERSION_NUMBER 200
+// PATCH` (0.3.0 is 300): `#if RSL_VERSION_NUMBER >= 300`.
+#define RSL_VERSION_NUMBER 300
 
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
@@ -410,13 +330,13 @@ typedef struct rsl_sphere {
   double radius;
 } rsl_sphere;
 
-// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
+// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD.
 typedef struct rsl_batch_options {
   // `RSL_PRECISION_F64` or `RSL_PRECISION_F32`.
   uint32_t precision;
   // `RSL_SIMD_AUTO`, `RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2` or `RSL_SIMD_AVX512`.
   uint32_t simd;
-  // OR of `RSL_BATCH_*` flags.
+  // Flags; none is defined in this version: keep 0 (`RSL_ERR_INVALID_ARGUMENT` otherwise).
   uint32_t flags;
   // Padding; keep 0.
   uint32_t reserved;
@@ -466,22 +386,31 @@ typedef struct rsl_batch_report {
   int32_t first_status;
   // The SIMD level that ran (`RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`, `RSL_SIMD_AVX512`).
   uint32_t simd;
-  // The scene kernel that ran (`RSL_SCENE_*`; see `rsl_batch_scene`).
-  uint32_t scene;
   // Padding.
   uint32_t reserved;
 } rsl_batch_report;
 
-// Per-contact coefficients of `rsl_batch_step_params` and `rsl_batch_step_contacts_params`, used
-// instead of the model's (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS`
-// and `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
-// contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin. Each pointer is NULL (the
+// Per-contact coefficients of `rsl_batch_step_params`, `rsl_batch_step_indexed` and
+// `rsl_batch_step_contacts_params`, used instead of the model's: each pointer is NULL (the
 // model's value for every contact) or an array of one value per contact.
+//
+// - `material`: each contact's material pair, an index into the model's table of coefficient
+//   sets (`rsl_model_set_materials`), as LAMMPS' `pair_coeff` per type pair: the contact steps
+//   as `rsl_contact_step` does with that set's model, bit for bit in double precision. A
+//   contact whose index is not below the table's size (any index, for a model without a
+//   table) is skipped with `RSL_ERR_INVALID_ARGUMENT`, as one with a particle index out of
+//   range.
+// - `sliding_stiffness`, `sliding_damping`: `k_t` and `gamma_t` for laws whose coefficients
+//   depend on the contact, such as the contact-area-dependent ones of Hertz-Mindlin (as
+//   `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS` and
+//   `RSL_INPUT_SLIDING_DAMPING`); they win over the contact's material set for those two.
 typedef struct rsl_batch_contact_params {
   // Sliding stiffness `k_t` per contact (force/length, finite, >= 0), or NULL.
   const double *sliding_stiffness;
   // Sliding damping `gamma_t` per contact (force/velocity, finite, >= 0), or NULL.
   const double *sliding_damping;
+  // Material pair per contact (an index into the model's table), or NULL.
+  const uint32_t *material;
 } rsl_batch_contact_params;
 
 // Loads of one contact (contact-major step): body 2 receives `-force1` and `torque2`.
@@ -1007,14 +936,6 @@ int32_t rsl_batch_decompose_contacts(const struct rsl_sphere *body1,
 // `RSL_SIMD_AVX512` (e.g. `(rsl_batch_simd_support() >> RSL_SIMD_AVX2) & 1`).
 uint32_t rsl_batch_simd_support(void);
 
-// The scene kernel a model would run in a batch, one of `RSL_SCENE_*` (`RSL_SCENE_GENERIC`
-// for a model no specialised kernel matches; `rsl_batch_report.scene` gives the one that
-// ran). Writes `*scene` on success.
-//
-// Preconditions (the behaviour is undefined if they do not hold):
-// `model` must be a live model; `scene` NULL or writable.
-int32_t rsl_batch_scene(const struct rsl_model *model, uint32_t *scene);
-
 // Resets a contact state to a fresh contact (all zero): call it when the contact ends (see
 // `rsl_contact_state`), or on a new contact's state before its first step.
 //
@@ -1237,6 +1158,32 @@ int32_t rsl_model_new(int32_t preset, struct rsl_model **out);
 // Preconditions (the behaviour is undefined if they do not hold):
 // `model` must be NULL or a live pointer from `rsl_model_new`, not used by another thread.
 void rsl_model_free(struct rsl_model *model);
+
+// Gives `model` a table of material pairs for the batch calls: set `i` holds the coefficients
+// (stiffness, damping and limit coefficient of each law) of `sets[i]`, a model with the same
+// laws, forms, rules, transports, preset and switches as `model`, only other values (as
+// LAMMPS' `pair_coeff` per type pair, or YADE's material pairs). A batch call then takes each
+// contact's index into the table (`rsl_batch_contact_params.material`) and steps it as
+// `rsl_contact_step` steps it with `sets[i]`. Fill it once per run: the sets are copied, and
+// `sets` may be freed afterwards. `n = 0` (with `sets` NULL or not) removes the table.
+//
+// The table stays while the model's setters change values only; a setter that changes a law,
+// form, rule, transport or switch removes it (its sets would no longer be of the model's
+// laws). On error (`RSL_ERR_INVALID_ARGUMENT` for a set of other laws or a NULL set,
+// `RSL_ERR_INVALID_HANDLE` for a freed one) the model and its table are unchanged.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// `model` a live model no other thread uses during the call; `sets` NULL (only with `n = 0`)
+// or an array of `n` pointers to live models.
+int32_t rsl_model_set_materials(struct rsl_model *model,
+                                const struct rsl_model *const *sets,
+                                size_t n);
+
+// Writes the number of sets in `model`'s table of material pairs (0 without one) to `*n`.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// `model` a live model; `n` NULL or writable.
+int32_t rsl_model_material_count(const struct rsl_model *model, size_t *n);
 
 // Sets the branch rule (`RSL_BRANCH_*`) and rolling radius rule (`RSL_ROLLING_RADIUS_*`).
 //

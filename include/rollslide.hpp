@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rollslide {
 
@@ -198,11 +199,15 @@ public:
                       "rsl_model_set_energy_tracking");
         return *this;
     }
-    /// The RSL_SCENE_* kernel the batch calls use for this model.
-    uint32_t batch_scene() const {
-        uint32_t scene = 0;
-        detail::check(rsl_batch_scene(handle_, &scene), "rsl_batch_scene");
-        return scene;
+    /// The table of material pairs the batch calls index with
+    /// `rsl_batch_contact_params::material` (`rsl_model_set_materials`): set `i` takes the
+    /// coefficients of `*sets[i]`, a model of the same laws; `n = 0` removes the table.
+    model &set_materials(const model *const *sets, std::size_t n) {
+        std::vector<const rsl_model *> handles(n);
+        for (std::size_t i = 0; i < n; i++) handles[i] = sets[i]->handle_;
+        detail::check(rsl_model_set_materials(handle_, handles.data(), n),
+                      "rsl_model_set_materials");
+        return *this;
     }
 
     /// Mirrors `state` for the same contact with body 1 and body 2 exchanged

@@ -1,7 +1,8 @@
 #!/bin/sh
 # Checks that the release library's SIMD batch kernels and per-contact steps are whole: no call
 # from a kernel (`capi::batch::x86::*`) into the physics, nalgebra, simba or the `core::arch`
-# intrinsics, and the per-contact steps as the end of the script says.
+# intrinsics, and the per-contact steps as the end of the script says. It also checks that the
+# kernels are the ones the source defines (see "The kernels" below).
 #
 # The x86 kernels get their vector instructions by inlining: the lane types of
 # `src/capi/lanes_x86.rs` call `core::arch` intrinsics from plain functions, and an intrinsic
@@ -57,6 +58,66 @@ if [ "$kernels" -eq 0 ]; then
   echo "check_kernels: no x86 kernel found in $lib" >&2
   exit 1
 fi
+# The kernels (src/capi/batch.rs, module `x86`): one step kernel per SIMD level (AVX2, AVX-512),
+# precision (`avx2_f64`, `avx2_f32`, `avx512_f64`, `avx512_f32`), access type `A` and
+# prefetching choice `P` (`<const P: bool, A: CAccess>`), which takes the model's law decisions
+# at run time: no other compile-time parameter (before 0.3.0 a scene code `S` gave every
+# specialised law set its own kernels, 960 in all). The access types `run_step` is instantiated
+# with (STEP_ACCESS): particle-major with the states in an array (rsl_batch_step, _params) or in
+# place (rsl_batch_step_indexed), each with the model's sliding coefficients or per-contact ones
+# (4); packed histories (rsl_batch_step_history), one per record layout: 7, 10 or 13 words from
+# word 0 with a sliding law, 4, 7 or 10 from word 3 without (6); contact-major
+# (rsl_batch_step_contacts, _params: 1). The decomposition has one kernel per level
+# (`decompose_avx2`, `decompose_avx512`: the precision is a run-time argument), access type
+# (particle- or contact-major: DECOMPOSE_ACCESS) and prefetching choice.
+# Each of the six families must be there, with at most 2 x its access types instances: fewer is
+# fine (LLVM may fold identical instances into one), more means another compile-time parameter
+# (or a new access type: then update the count here). Where the symbols carry their generic
+# arguments (v0 mangling), the first must be the prefetching choice (`true` or `false`).
+STEP_ACCESS=11
+DECOMPOSE_ACCESS=2
+families=$(objdump -t -C "$lib" | awk -v step_max=$((2 * STEP_ACCESS)) \
+    -v decompose_max=$((2 * DECOMPOSE_ACCESS)) '
+  BEGIN {
+    n = split("avx2_double::avx2_f64 avx2_single::avx2_f32 avx512_double::avx512_f64 " \
+              "avx512_single::avx512_f32 decompose::decompose_avx2 decompose::decompose_avx512",
+              family, " ")
+    for (i = 1; i <= n; i++) count[family[i]] = 0
+  }
+  / F / && /capi::batch::x86::/ {
+    name = $0
+    sub(/^[^\t]*\t[0-9a-f]+[ \t]+/, "", name)   # after the section and the size
+    sub(/^\.hidden[ \t]+/, "", name)
+    for (i = 1; i <= n; i++) {
+      key = "capi::batch::x86::" family[i]
+      at = index(name, key)
+      if (at == 0) continue
+      rest = substr(name, at + length(key))
+      sub(/^::h[0-9a-f]+/, "", rest)              # a hash, where the demangler shows it
+      sub(/^\.llvm\..*/, "", rest)                # a ThinLTO suffix
+      if (rest == "") { count[family[i]]++; break }
+      if (substr(rest, 1, 3) == "::<") {        # v0 mangling: the generic arguments
+        count[family[i]]++
+        if (rest !~ /^::<(true|false),/) print "parameter " name
+      }
+      break                                     # anything else is not a kernel (a closure)
+    }
+  }
+  END {
+    for (i = 1; i <= n; i++) {
+      max = family[i] ~ /^decompose/ ? decompose_max : step_max
+      c = count[family[i]]
+      if (c == 0) print "missing " family[i]
+      else if (c > max) print "extra " family[i] " " c " instances, at most " max
+      else print "ok " family[i] " " c
+    }
+  }')
+bad=$(echo "$families" | grep -v '^ok ' || true)
+if [ -n "$bad" ]; then
+  echo "check_kernels: the kernels in $lib are not the ones of src/capi/batch.rs (see the script):" >&2
+  echo "$bad" | head -20 >&2
+  exit 1
+fi
 if [ -n "$out" ]; then
   echo "check_kernels: physics left out of line in the SIMD kernels (see the script's header):" >&2
   echo "$out" | head -20 >&2
@@ -90,4 +151,5 @@ if [ -n "$steps" ]; then
   exit 1
 fi
 echo "check_kernels: $kernels x86 kernel symbols, none calls out of line into the physics or the intrinsics"
+echo "check_kernels: instances per kernel: $(echo "$families" | awk '{printf "%s%s %s", sep, $2, $3; sep = ", "}')"
 echo "check_kernels: the per-contact steps call only their checked path; both pair entries jump to them"

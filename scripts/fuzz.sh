@@ -9,8 +9,7 @@
 # cargo-fuzz needs nightly-only rustc flags (-Zsanitizer...): with the stable toolchain,
 # RUSTC_BOOTSTRAP=1 unlocks them (no other toolchain can be fetched here).
 #
-# RUSTFLAGS in the environment reach the build (cargo-fuzz appends them to its own flags): .ci/run
-# passes `--cfg rollslide_generic_batch_kernels`, since no target steps a batch.
+# RUSTFLAGS in the environment reach the build (cargo-fuzz appends them to its own flags).
 #
 # Usage: scripts/fuzz.sh [target...]     Env: FUZZ_SECONDS, FUZZ_NICE (default 19), RUSTFLAGS
 set -euo pipefail

@@ -11,9 +11,8 @@
 #      rejects as an illegal opcode although every CPU with AVX runs it. A test stopped by such
 #      a decoder gap is run again under valgrind against a library built with
 #      `--cfg rollslide_portable_pair_steps` (the same code, but the per-contact steps are the
-#      portable build, which valgrind decodes; and `--cfg rollslide_generic_batch_kernels`,
-#      which compiles the generic batch kernels only); it passes only if that run is clean, and
-#      the report says which tests needed it. Any other failure fails the run. ASan runs the AVX2
+#      portable build, which valgrind decodes); it passes only if that run is clean, and the
+#      report says which tests needed it. Any other failure fails the run. ASan runs the AVX2
 #      steps natively (it does not instrument the Rust side).
 # The Rust library itself is not instrumented (ASan instruments the C side and intercepts
 # malloc/free for both); valgrind checks both sides.
@@ -91,9 +90,7 @@ if [ "$run_valgrind" -eq 1 ]; then
     if grep -q "Illegal opcode" "$out/valgrind_$t.log"; then
       # A decoder gap (header note): the same test on the portable per-contact steps.
       if [ "$portable_built" -eq 0 ]; then  # once per run (a binary of an earlier run is stale)
-        # The generic batch kernels only (a fraction of the build time, same double results):
-        # a test rerun here meets its batch calls' scene as RSL_SCENE_GENERIC.
-        RUSTFLAGS="${RUSTFLAGS:-} --cfg rollslide_portable_pair_steps --cfg rollslide_generic_batch_kernels" \
+        RUSTFLAGS="${RUSTFLAGS:-} --cfg rollslide_portable_pair_steps" \
           cargo build --lib --profile "$VALGRIND_PROFILE" --target-dir target/portable-pair-steps >&2
         "$CC" "${common[@]}" "${sources[@]}" \
           "target/portable-pair-steps/$VALGRIND_PROFILE/librollslide.a" "${native_libs[@]}" \

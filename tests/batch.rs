@@ -1,13 +1,14 @@
-//! Batch kernels against the per-contact checked step: every precision, SIMD level and scene
-//! kernel; accumulation into particle arrays; skipping of invalid contacts; decomposition.
+//! Batch kernels against the per-contact checked step: every precision and SIMD level, one model
+//! per law set and preset family; accumulation into particle arrays; skipping of invalid
+//! contacts; decomposition.
 
 mod common;
 
-use common::{full_model, length_form_models, scene_models, Rng};
+use common::{full_model, law_set_models, length_form_models, Rng};
 use rollslide::batch::history::{history_layout, words_from_state, HistoryLayout};
 use rollslide::batch::{
     BatchReport, ContactStates, ContactSteps, Gather, IndexedStates, ModelSliding,
-    ParticleDecompose, ParticleSteps, Scene, SlidingOverrides, SlidingSource, StepAccess,
+    ParticleDecompose, ParticleSteps, SlidingOverrides, SlidingSource, StepAccess,
     PREFETCH_MIN_BYTES,
 };
 use rollslide::capi::batch::rsl_batch_loads;
@@ -31,9 +32,10 @@ fn v(x: rollslide::scalar::Vec3<f64>) -> rsl_vec3 {
     }
 }
 
-/// The models of every scene kernel, one of them without limits and one in the other rolling
-/// form, plus three that run the generic kernel.
-fn models() -> Vec<(Model, Scene)> {
+/// One model per law set and preset family ([`law_set_models`]), the LIGGGHTS ones in both
+/// rolling forms, one without limits, and three with other options (YADE's preset, viscous
+/// rolling with first-order transport, LIGGGHTS' `torsionTorque`), each with a name for messages.
+fn models() -> Vec<(Model, String)> {
     let full = full_model(Preset::Objective, Transport::Exact);
     let mut yade = full_model(Preset::Yade2023, Transport::FirstOrder);
     yade.rolling.form = rollslide::laws::model::RollingForm::Angle;
@@ -59,14 +61,19 @@ fn models() -> Vec<(Model, Scene)> {
     unlimited.rolling.friction = f64::INFINITY;
     unlimited.twisting.friction = f64::INFINITY;
     unlimited.validate().unwrap();
-    let mut models = scene_models();
-    // The LIGGGHTS scenes' models in the length form too: those scenes keep the form a
-    // run-time choice.
+    let mut models = law_set_models();
+    // The LIGGGHTS models in the length form too (the one that gives each pair of unequal
+    // spheres LIGGGHTS' limit from one `mu_r`).
     models.extend(length_form_models());
-    models.push((unlimited, Scene::FullExact));
-    models.push((yade, Scene::Generic));
-    models.push((viscous, Scene::Generic));
-    models.push((liggghts, Scene::Generic));
+    models.extend(
+        [
+            (unlimited, "full/exact without limits"),
+            (yade, "full/yade"),
+            (viscous, "viscous rolling/first order"),
+            (liggghts, "slide+epsd/liggghts torsionTorque"),
+        ]
+        .map(|(m, name)| (m, name.to_string())),
+    );
     models
 }
 
@@ -184,13 +191,7 @@ fn configs() -> Vec<BatchConfig> {
             continue;
         }
         for f32 in [false, true] {
-            for specialise in [true, false] {
-                out.push(BatchConfig {
-                    f32,
-                    simd,
-                    specialise,
-                });
-            }
+            out.push(BatchConfig { f32, simd });
         }
     }
     out
@@ -228,12 +229,7 @@ fn close(a: f64, b: f64, abs: f64, rel: f64) -> bool {
 #[test]
 fn contact_major_matches_per_contact_step() {
     let dt = 1e-4;
-    for (model, scene) in models() {
-        assert_eq!(
-            Scene::classify(&model),
-            scene,
-            "classification of {model:?}"
-        );
+    for (model, name) in models() {
         let sc = scenario(64, 203, 7);
         let (ref_loads, ref_states) = reference(&model, &sc, dt);
         let (body1, body2) = gathered_bodies(&sc);
@@ -249,16 +245,8 @@ fn contact_major_matches_per_contact_step() {
                 out: &mut out,
                 sliding: SlidingOverrides::NONE,
             };
-            let (report, ran) = run_step(&model, dt, &mut access, config).unwrap();
+            let report = run_step(&model, dt, &mut access, config).unwrap();
             assert_eq!(report.failed, 0, "{config:?}: {:?}", report.first_error);
-            assert_eq!(
-                ran,
-                if config.specialise {
-                    scene
-                } else {
-                    Scene::Generic
-                }
-            );
             let (abs, rel) = if config.f32 { (2e-4, 2e-4) } else { (0.0, 0.0) };
             let scale_f = sc.normal_force.iter().cloned().fold(0.0, f64::max);
             for (c, l) in ref_loads.iter().enumerate() {
@@ -268,7 +256,7 @@ fn contact_major_matches_per_contact_step() {
                     for (a, b) in [(got[k].x, l[k].x), (got[k].y, l[k].y), (got[k].z, l[k].z)] {
                         assert!(
                             close(a, b, abs * scale_f, rel),
-                            "{config:?} {scene:?} contact {c} load {k}: {a} vs {b}"
+                            "{config:?} {name} contact {c} load {k}: {a} vs {b}"
                         );
                     }
                 }
@@ -282,7 +270,7 @@ fn contact_major_matches_per_contact_step() {
                 for (a, b, scale) in springs {
                     assert!(
                         (a - b).norm() <= abs * scale + rel * b.norm(),
-                        "{config:?} {scene:?} contact {c} state {a} vs {b}"
+                        "{config:?} {name} contact {c} state {a} vs {b}"
                     );
                 }
                 assert!(close(s.twisting_angle, r.twisting_angle, abs * 1e-3, rel));
@@ -297,7 +285,7 @@ fn contact_major_matches_per_contact_step() {
 #[test]
 fn particle_major_accumulates_per_contact_loads() {
     let dt = 1e-4;
-    let (model, _) = models()[0];
+    let model = models()[0].0;
     let sc = scenario(50, 300, 11);
     let (ref_loads, _) = reference(&model, &sc, dt);
     let np = sc.particles.len();
@@ -330,7 +318,7 @@ fn particle_major_accumulates_per_contact_loads() {
             sliding: ModelSliding,
         };
         access.check().unwrap();
-        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        let report = run_step(&model, dt, &mut access, config).unwrap();
         assert_eq!(report.processed, sc.pairs.len());
         let tol = if config.f32 { 1e-3 } else { 0.0 };
         for p in 0..np {
@@ -361,7 +349,7 @@ fn particle_major_accumulates_per_contact_loads() {
 #[test]
 fn particle_major_sums_equal_contact_order_additions_bitwise() {
     let dt = 1e-4;
-    let (model, _) = models()[0];
+    let model = models()[0].0;
     let mut sc = scenario(40, 400, 23);
     sort_by_body1(&mut sc);
     let (ref_loads, _) = reference(&model, &sc, dt);
@@ -416,7 +404,7 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
             torque: &mut torque,
             sliding: ModelSliding,
         };
-        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        let report = run_step(&model, dt, &mut access, config).unwrap();
         assert_eq!(report.processed + skipped, sc.pairs.len());
         for p in 0..np {
             assert_eq!(bits(&force[p]), bits(&f_ref[p]), "{config:?} force {p}");
@@ -463,7 +451,7 @@ fn particle_major_in_calls<O: SlidingSource>(
             access.footprint() >= PREFETCH_MIN_BYTES,
             access.prefetching()
         );
-        let (report, _) = run_step(model, 1e-4, &mut access, config).unwrap();
+        let report = run_step(model, 1e-4, &mut access, config).unwrap();
         assert_eq!(report.processed, c1 - c0, "every contact is valid");
         c0 = c1;
     }
@@ -496,7 +484,7 @@ fn contact_major_in_calls<'a>(
             sliding: sliding(c0, c1),
         };
         assert_eq!(access.prefetching(), size == nc, "{size} contacts");
-        let (report, _) = run_step(model, 1e-4, &mut access, config).unwrap();
+        let report = run_step(model, 1e-4, &mut access, config).unwrap();
         assert_eq!(report.processed, c1 - c0, "every contact is valid");
         c0 = c1;
     }
@@ -510,7 +498,7 @@ fn contact_major_in_calls<'a>(
 /// Calls of at least `PREFETCH_MIN_BYTES` run the kernels that prefetch, smaller ones the
 /// kernels that do not (two instantiations of the same code). The same contacts stepped in one
 /// large call and in calls of 1,000 give the same bits, in both precisions, at every level, for
-/// every scene, particle-major (the accumulated sums) and contact-major (the loads), and the
+/// every model, particle-major (the accumulated sums) and contact-major (the loads), and the
 /// same states; with the model's sliding coefficients and with per-contact `k_t` and
 /// `gamma_t` (which the gather copies group by group, a partial group at each call's end).
 #[test]
@@ -528,6 +516,7 @@ fn calls_with_and_without_prefetching_give_the_same_bits() {
     let overrides = |c0: usize, c1: usize| SlidingOverrides {
         stiffness: Some(&k_t[c0..c1]),
         damping: Some(&gamma_t[c0..c1]),
+        materials: None,
     };
     // One call's results, after checking that the calls of `chunk` gave the same.
     let same = |[one, chunks]: [ResultBits; 2], what: String| {
@@ -563,7 +552,7 @@ fn calls_with_and_without_prefetching_give_the_same_bits() {
 #[test]
 fn repeated_steps_scalar_and_simd_agree() {
     let dt = 1e-4;
-    let (model, _) = models()[1];
+    let model = models()[1].0;
     let sc = scenario(40, 120, 3);
     let run = |config: BatchConfig| {
         let mut states = sc.states.clone();
@@ -581,7 +570,7 @@ fn repeated_steps_scalar_and_simd_agree() {
                 torque: &mut torque,
                 sliding: ModelSliding,
             };
-            let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+            let report = run_step(&model, dt, &mut access, config).unwrap();
             assert_eq!(report.failed, 0, "step {step}");
             // Move the particles rigidly a little so the normals turn.
             for p in particles.iter_mut() {
@@ -595,7 +584,6 @@ fn repeated_steps_scalar_and_simd_agree() {
     let scalar = run(BatchConfig {
         f32: false,
         simd: Simd::Scalar,
-        specialise: true,
     });
     for config in configs() {
         let got = run(config);
@@ -621,7 +609,7 @@ fn repeated_steps_scalar_and_simd_agree() {
 #[test]
 fn invalid_contacts_are_skipped_and_reported() {
     let dt = 1e-4;
-    let (model, _) = models()[0];
+    let model = models()[0].0;
     let mut sc = scenario(30, 100, 5);
     let np = sc.particles.len() as u32;
     // Contact 13: index out of range; 20: NaN normal force; 41: NaN state;
@@ -671,7 +659,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
             sliding: ModelSliding,
         };
-        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        let report = run_step(&model, dt, &mut access, config).unwrap();
         assert_eq!(report.failed, bad.len(), "{config:?}");
         assert_eq!(report.processed, sc.pairs.len() - bad.len());
         assert_eq!(report.first_failed, Some(13));
@@ -701,7 +689,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             out: &mut out,
             sliding: SlidingOverrides::NONE,
         };
-        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        let report = run_step(&model, dt, &mut access, config).unwrap();
         // Contact 13's default (zero-radius) body fails as an invalid radius here.
         assert_eq!(report.failed, bad.len(), "{config:?}");
         assert_eq!(report.first_failed, Some(13));
@@ -731,7 +719,7 @@ fn invalid_contacts_are_skipped_and_reported() {
             torque: &mut vec![rsl_vec3::default(); sc.particles.len()],
             sliding: ModelSliding,
         };
-        let (report, _) = run_step(&model, dt, &mut access, configs()[0]).unwrap();
+        let report = run_step(&model, dt, &mut access, configs()[0]).unwrap();
         assert!(
             is(report.first_error.as_ref().unwrap()),
             "contact {c}: {:?}",
@@ -743,7 +731,7 @@ fn invalid_contacts_are_skipped_and_reported() {
 /// Call-level errors: bad time step, model refused by the batch.
 #[test]
 fn call_level_errors_process_nothing() {
-    let (model, _) = models()[0];
+    let model = models()[0].0;
     let sc = scenario(10, 10, 1);
     let mut states = sc.states.clone();
     let mut force = vec![rsl_vec3::default(); 10];
@@ -830,7 +818,7 @@ fn decompose_batch_matches_decompose_pair() {
 #[test]
 fn underflowing_centre_distance_is_refused_in_every_kernel() {
     let dt = 1e-4;
-    let (model, _) = models()[0];
+    let model = models()[0].0;
     let sc = scenario(30, 17, 9);
     let body = |c: usize, k: usize| sc.particles[sc.pairs[c][k] as usize];
     let mut body1: Vec<rsl_sphere> = (0..sc.pairs.len()).map(|c| body(c, 0)).collect();
@@ -861,7 +849,7 @@ fn underflowing_centre_distance_is_refused_in_every_kernel() {
             out: &mut out,
             sliding: SlidingOverrides::NONE,
         };
-        let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+        let report = run_step(&model, dt, &mut access, config).unwrap();
         assert_eq!(report.failed, 1, "{config:?}");
         assert_eq!(report.first_failed, Some(tiny), "{config:?}");
         assert!(matches!(
@@ -876,7 +864,7 @@ fn underflowing_centre_distance_is_refused_in_every_kernel() {
 /// The particle-major call on packed histories (`rsl_batch_step_history`'s kernels) against the
 /// call on full states, with the fields a record does not keep set to zero: the same report,
 /// and bit for bit the same loads and new record words, for every model (and so every record
-/// layout: with and without the sliding spring), precision, SIMD level and scene kernel (the
+/// layout: with and without the sliding spring), precision and SIMD level (the
 /// records fill the block's rows with exactly the values the states do). A non-finite word in
 /// a record is skipped as in a state.
 #[test]
@@ -884,16 +872,17 @@ fn packed_histories_step_as_full_states() {
     let dt = 1e-4;
     let mut layouts = Vec::new();
     let mut all = models();
-    // The generic kernel on the layouts without the sliding spring: YADE (10 words from word
-    // 3) and LIGGGHTS (4 words from word 3, which the LAMMPS scene also has).
-    for (model, _) in models() {
+    // The YADE and LIGGGHTS models without a sliding law too: the layouts without the sliding
+    // spring, YADE's (10 words from word 3) and LIGGGHTS' (4 words from word 3, which the LAMMPS
+    // models without sliding also have).
+    for (model, name) in models() {
         if matches!(model.preset, Preset::Yade2023 | Preset::Liggghts38) {
             let mut no_sliding = model;
             no_sliding.sliding.law = SlidingLaw::None;
-            all.push((no_sliding, Scene::Generic));
+            all.push((no_sliding, format!("{name} without sliding")));
         }
     }
-    for (model, scene) in all {
+    for (model, name) in all {
         let layout = history_layout(&model);
         if !layouts.contains(&layout) {
             layouts.push(layout);
@@ -928,7 +917,7 @@ fn packed_histories_step_as_full_states() {
                 torque: &mut torque,
                 sliding: ModelSliding,
             };
-            let (full, full_scene) = run_step(&model, dt, &mut access, config).unwrap();
+            let full = run_step(&model, dt, &mut access, config).unwrap();
             let packed = match (layout.first, end) {
                 (0, 7) => step_packed::<7, 0>(&model, dt, &sc, config),
                 (0, 10) => step_packed::<10, 0>(&model, dt, &sc, config),
@@ -937,14 +926,13 @@ fn packed_histories_step_as_full_states() {
                 (_, 10) => step_packed::<7, 3>(&model, dt, &sc, config),
                 _ => step_packed::<10, 3>(&model, dt, &sc, config),
             };
-            let what = format!("{scene:?} {layout:?} {config:?}");
+            let what = format!("{name} {layout:?} {config:?}");
             assert_eq!(
                 format!("{:?}", packed.report),
                 format!("{full:?}"),
                 "{what}"
             );
             assert_eq!(full.failed, 2, "{what}: contacts 7 and 30 skipped");
-            assert_eq!(packed.scene, full_scene, "{what}");
             let bits = |v: &[rsl_vec3]| -> Vec<[u64; 3]> {
                 v.iter()
                     .map(|v| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
@@ -971,7 +959,6 @@ fn packed_histories_step_as_full_states() {
 /// What [`step_packed`] returns.
 struct Packed {
     report: rollslide::batch::BatchReport,
-    scene: Scene,
     force: Vec<rsl_vec3>,
     torque: Vec<rsl_vec3>,
     records: Vec<Vec<f64>>,
@@ -1001,10 +988,9 @@ fn step_packed<const W: usize, const F: usize>(
         torque: &mut torque,
         sliding: ModelSliding,
     };
-    let (report, scene) = run_history_step(model, dt, &mut access, config).unwrap();
+    let report = run_history_step(model, dt, &mut access, config).unwrap();
     Packed {
         report,
-        scene,
         force,
         torque,
         records: records.iter().map(|r| r.0.to_vec()).collect(),
@@ -1013,7 +999,7 @@ fn step_packed<const W: usize, const F: usize>(
 
 /// Per-contact sliding stiffness and damping (contact-major, `SlidingOverrides`) against the
 /// per-contact checked step with the same overrides: bit for bit in double precision at every
-/// level and scene kernel (1e-4 of the scale in single); a contact with a negative or
+/// level for every model (1e-4 of the scale in single); a contact with a negative or
 /// non-finite `k_t` or `gamma_t` is skipped with the checked step's error and its state and
 /// loads untouched. Each array is tested alone and with the other.
 #[test]
@@ -1032,11 +1018,12 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
     let body1: Vec<rsl_sphere> = (0..n).map(|c| body(c, 0)).collect();
     let body2: Vec<rsl_sphere> = (0..n).map(|c| body(c, 1)).collect();
     let mut tested = 0;
-    for (model, scene) in models() {
+    for (model, name) in models() {
         for (use_k, use_g) in [(true, false), (false, true), (true, true)] {
             let sliding = SlidingOverrides {
                 stiffness: use_k.then_some(&k_t[..]),
                 damping: use_g.then_some(&gamma_t[..]),
+                materials: None,
             };
             // Reference: the checked step with the same overrides.
             let mut expected = Vec::new();
@@ -1059,7 +1046,7 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
                 expected.push(r.ok().map(|o| (o.loads, s)));
             }
             for config in configs() {
-                let what = format!("{scene:?} {config:?} k_t {use_k} gamma_t {use_g}");
+                let what = format!("{name} {config:?} k_t {use_k} gamma_t {use_g}");
                 let mut states = sc.states.clone();
                 let mut out = vec![rsl_batch_loads::default(); n];
                 let mut access = ContactSteps {
@@ -1072,7 +1059,7 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
                     sliding,
                 };
                 access.check().unwrap();
-                let (report, _) = run_step(&model, dt, &mut access, config).unwrap();
+                let report = run_step(&model, dt, &mut access, config).unwrap();
                 let (c0, e0) = first_error.clone().unwrap();
                 assert_eq!(report.first_failed, Some(c0), "{what}");
                 assert_eq!(report.first_error, Some(e0), "{what}");
@@ -1111,7 +1098,7 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
 /// the per-contact step above): the same report, the same new states, and accumulators equal to
 /// the contact-major loads added in contact order (`force[i] += F1`, `force[j] -= F1`,
 /// `torque[i] += M1`, `torque[j] += M2`), bit for bit in double precision at every level and
-/// scene kernel (1e-4 of the scale in single, whose kernels differ in their lane counts).
+/// model (1e-4 of the scale in single, whose kernels differ in their lane counts).
 #[test]
 fn particle_major_sliding_coefficients_match_the_contact_major_step() {
     let dt = 1e-4;
@@ -1132,14 +1119,15 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
         z: 2.0,
     };
     let mut tested = 0;
-    for (model, scene) in models() {
+    for (model, name) in models() {
         for (use_k, use_g) in [(true, false), (false, true), (true, true)] {
             let sliding = SlidingOverrides {
                 stiffness: use_k.then_some(&k_t[..]),
                 damping: use_g.then_some(&gamma_t[..]),
+                materials: None,
             };
             for config in configs() {
-                let what = format!("{scene:?} {config:?} k_t {use_k} gamma_t {use_g}");
+                let what = format!("{name} {config:?} k_t {use_k} gamma_t {use_g}");
                 let mut want_states = sc.states.clone();
                 let mut out = vec![rsl_batch_loads::default(); n];
                 let mut contacts = ContactSteps {
@@ -1151,7 +1139,7 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
                     out: &mut out,
                     sliding,
                 };
-                let (want, _) = run_step(&model, dt, &mut contacts, config).unwrap();
+                let want = run_step(&model, dt, &mut contacts, config).unwrap();
                 let skipped = out
                     .iter()
                     .filter(|l| **l == rsl_batch_loads::default())
@@ -1187,7 +1175,7 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
                     sliding,
                 };
                 access.check().unwrap();
-                let (got, _) = run_step(&model, dt, &mut access, config).unwrap();
+                let got = run_step(&model, dt, &mut access, config).unwrap();
                 assert_eq!(got.first_failed, want.first_failed, "{what}");
                 assert_eq!(got.first_error, want.first_error, "{what}");
                 assert_eq!(
@@ -1300,7 +1288,7 @@ fn step_with_states<St: ContactStates<Slot = rsl_contact_state>>(
             };
             access.check().unwrap();
             let prefetched = access.prefetching();
-            let (report, _) = run_step(model, 1e-4, &mut access, config).unwrap();
+            let report = run_step(model, 1e-4, &mut access, config).unwrap();
             (report, prefetched)
         }};
     }
@@ -1308,6 +1296,7 @@ fn step_with_states<St: ContactStates<Slot = rsl_contact_state>>(
         Some(k) => step!(SlidingOverrides {
             stiffness: Some(k),
             damping: None,
+            materials: None,
         }),
         None => step!(ModelSliding),
     };
@@ -1347,16 +1336,13 @@ fn indexed_states_step_as_a_buffer_of_states() {
         };
         let k_t: Vec<f64> = (0..nc).map(|_| rng.uniform(0.0, 4e4)).collect();
         let mut tested = 0;
-        for (m, (model, scene)) in models().into_iter().enumerate() {
+        for (m, (model, name)) in models().into_iter().enumerate() {
             if !every_model && m % 4 != 0 {
                 continue;
             }
             for config in configs() {
-                if !every_model && !config.specialise {
-                    continue;
-                }
                 for with_kt in [false, true] {
-                    let what = format!("{nc} {scene:?} {config:?} k_t {with_kt}");
+                    let what = format!("{nc} {name} {config:?} k_t {with_kt}");
                     let k_t = with_kt.then_some(&k_t[..]);
                     let mut buffer = sc.states.clone();
                     let want = step_with_states(&model, config, &sc, &mut buffer[..], k_t);

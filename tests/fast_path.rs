@@ -1,16 +1,15 @@
 //! The per-contact fast path (`rsl_contact_step` without overrides) against the checked step it
 //! replaces: the same bits for every accepted input, the same error (and an untouched state)
-//! for every refused one, for the models of every scene kernel and for generic ones.
+//! for every refused one, for one model per law set and preset family and for models with the
+//! other options.
 
 mod common;
 
-use common::{full_model, length_form_models, scene_models, Rng};
-use rollslide::batch::scene::fold;
-use rollslide::batch::Scene;
+use common::{full_model, law_set_models, length_form_models, Rng};
 use rollslide::decompose::Sphere;
 use rollslide::laws::checked::contact_step_pair;
 use rollslide::laws::fast_path::{
-    contact_step_pair_fast, inputs_finite, scene_outputs_finite, step_pair_if_valid,
+    contact_step_pair_fast, inputs_finite, step_outputs_finite, step_pair_if_valid,
 };
 use rollslide::laws::model::{
     Model, Preset, RollingDamping, RollingForm, RollingLaw, RollingStiffness, SlidingLaw,
@@ -19,8 +18,10 @@ use rollslide::laws::model::{
 use rollslide::laws::step::{written_fields, ContactState, StepInput, StepOutput};
 use rollslide::scalar::Vec3;
 
-/// Models of every scene kernel and several generic ones (energy tracking, YADE, LIGGGHTS'
-/// cdt with `k_n`, EPSD-derived stiffness, damping-ratio rolling damping, Marshall twisting).
+/// One model per law set and preset family ([`law_set_models`], the LIGGGHTS ones in both
+/// rolling forms) and models with the other options (energy tracking, YADE, LIGGGHTS' cdt with
+/// `k_n` and sds twisting, EPSD-derived stiffness, damping-ratio rolling damping, Marshall
+/// twisting with first-order transports).
 fn models() -> Vec<Model> {
     let full = full_model(Preset::Objective, Transport::Exact);
     let mut energy = full;
@@ -34,15 +35,14 @@ fn models() -> Vec<Model> {
     let mut ratio = full;
     ratio.rolling.damping_rule = RollingDamping::Ratio;
     ratio.rolling.damping = 0.3;
-    // Marshall twisting with first-order transports (with the objective preset's exact ones,
-    // or LAMMPS', it has a scene).
+    // Marshall twisting with first-order transports (the law-set models have it with the
+    // objective preset's exact transports and with LAMMPS').
     let mut marshall = full;
     marshall.twisting.law = TwistingLaw::Marshall;
     marshall.sliding_transport = Transport::FirstOrder;
     marshall.rolling_transport = Transport::FirstOrder;
-    // The scene models, and the LIGGGHTS scenes' models in the length form too (those scenes
-    // keep the form a run-time choice).
-    let mut models: Vec<Model> = scene_models()
+    // The law-set models, and the LIGGGHTS ones in the length form too.
+    let mut models: Vec<Model> = law_set_models()
         .into_iter()
         .chain(length_form_models())
         .map(|(m, _)| m)
@@ -51,9 +51,6 @@ fn models() -> Vec<Model> {
     for m in &models {
         m.validate().expect("test model is valid");
     }
-    // Both kinds of kernel are exercised.
-    let scenes: Vec<Scene> = models.iter().map(Scene::classify).collect();
-    assert!(scenes.contains(&Scene::FullLammps) && scenes.contains(&Scene::Generic));
     models
 }
 
@@ -149,10 +146,9 @@ fn state_bits(s: &ContactState<f64>) -> Vec<u64> {
 /// Runs both paths from the same state; asserts the same result (bits) or the same error, and
 /// the same state afterwards. Returns whether the step succeeded.
 fn same(model: &Model, c: &Case, what: &str) -> bool {
-    let scene = Scene::classify(model);
     let (mut s_checked, mut s_fast) = (c.state, c.state);
     let checked = contact_step_pair(model, &c.b1, &c.b2, &c.input, &mut s_checked);
-    let fast = contact_step_pair_fast(model, scene, &c.b1, &c.b2, &c.input, &mut s_fast);
+    let fast = contact_step_pair_fast(model, &c.b1, &c.b2, &c.input, &mut s_fast);
     match (&checked, &fast) {
         (Ok(a), Ok(b)) => assert_eq!(bits(a), bits(b), "{what}: outputs differ"),
         (Err(a), Err(b)) => assert_eq!(a, b, "{what}: errors differ"),
@@ -173,21 +169,6 @@ fn same(model: &Model, c: &Case, what: &str) -> bool {
     checked.is_ok()
 }
 
-/// The test models cover the scene table: one model per specialised scene, in code order, each
-/// classified as its scene. A scene added to the table without a model here fails this test
-/// instead of going untested (the kernel tests of tests/batch.rs and this file step the models
-/// of `scene_models`).
-#[test]
-fn scene_models_cover_every_specialised_scene() {
-    let models = scene_models();
-    let scenes: Vec<Scene> = models.iter().map(|&(_, s)| s).collect();
-    assert_eq!(scenes, Scene::ALL[1..].to_vec());
-    for (model, scene) in models {
-        assert_eq!(Scene::classify(&model), scene, "{}", scene.name());
-        assert_eq!(Scene::from_code(scene as u8), scene);
-    }
-}
-
 #[test]
 fn accepted_inputs_give_the_same_bits_over_many_steps() {
     let mut rng = Rng::new(7);
@@ -197,11 +178,9 @@ fn accepted_inputs_give_the_same_bits_over_many_steps() {
             let mut c = case(&mut rng);
             // A few steps in a row: the histories each path writes feed its next step.
             for step in 0..5 {
-                let scene = Scene::classify(model);
                 let (mut s1, mut s2) = (c.state, c.state);
                 let a = contact_step_pair(model, &c.b1, &c.b2, &c.input, &mut s1).unwrap();
-                let b =
-                    contact_step_pair_fast(model, scene, &c.b1, &c.b2, &c.input, &mut s2).unwrap();
+                let b = contact_step_pair_fast(model, &c.b1, &c.b2, &c.input, &mut s2).unwrap();
                 assert_eq!(bits(&a), bits(&b), "model {k} case {i} step {step}");
                 assert_eq!(state_bits(&s1), state_bits(&s2), "model {k} case {i}");
                 slipped += a.slipped[0] as usize;
@@ -309,29 +288,27 @@ fn refused_inputs_give_the_same_error_and_leave_the_state() {
     assert!(refused > 500, "only {refused} refusals");
 }
 
-/// The fast step of scene code `S` and its result test, on inputs that pass the quick test:
-/// `Some((results finite by the scene's test, output, new state))`.
-fn scene_step<const S: u8>(
-    model: &Model,
-    c: &Case,
-) -> Option<(bool, StepOutput<f64>, ContactState<f64>)> {
+/// The fast step and its result test, on inputs that pass the quick test:
+/// `Some((results finite by the fast path's test, output, new state))`.
+fn fast_step(model: &Model, c: &Case) -> Option<(bool, StepOutput<f64>, ContactState<f64>)> {
     let finite = inputs_finite(&c.b1, &c.b2, &c.input, &c.state);
-    let (o, next) = step_pair_if_valid::<S>(model, &c.b1, &c.b2, &c.input, &c.state, finite)?;
-    Some((scene_outputs_finite::<S>(model, &o, &next), o, next))
+    let (o, next) = step_pair_if_valid(model, &c.b1, &c.b2, &c.input, &c.state, finite)?;
+    Some((step_outputs_finite(model, &o, &next), o, next))
 }
 
-/// `scene_outputs_finite` tests only `force1`, `torque1`, `torque2` and the state values the
-/// scene's laws write. On finite inputs pushed to extremes (springs, rates, stiffnesses, time
-/// steps and forces up to 1e300, and zeros), so that many results overflow: it never says yes
-/// to a result with a non-finite value, and the state values it leaves out are the input's,
-/// bit for bit. Results it refuses go to the checked step, which names the error; so the
-/// per-contact call accepts exactly what it accepted when it tested every value.
+/// `step_outputs_finite` tests only `force1`, `torque1`, `torque2`, the state values the
+/// model's laws write and, when the model tracks them, the energy terms. On finite inputs pushed
+/// to extremes (springs, rates, stiffnesses, time steps and forces up to 1e300, and zeros), so
+/// that many results overflow, for every model: it never says yes to a result with a non-finite
+/// value, and the state values it leaves out are the input's, bit for bit. Results it refuses go
+/// to the checked step, which names the error; so the per-contact call accepts exactly what it
+/// accepted when it tested every value.
 #[test]
-fn scene_result_test_never_passes_a_non_finite_result() {
+fn step_result_test_never_passes_a_non_finite_result() {
     let mut rng = Rng::new(23);
     let extremes = [1e300, -1e300, 1e200, 1e160, -1e160, 1e-300, 0.0];
     let (mut stepped, mut non_finite, mut hidden) = (0, 0, 0);
-    for (base, scene) in scene_models() {
+    for (k, base) in models().into_iter().enumerate() {
         for i in 0..3000 {
             let mut model = base;
             let mut c = case(&mut rng);
@@ -359,29 +336,7 @@ fn scene_result_test_never_passes_a_non_finite_result() {
             if model.validate().is_err() {
                 continue;
             }
-            assert_eq!(Scene::classify(&model), scene);
-            let step = match scene {
-                Scene::FullExact => scene_step::<1>(&model, &c),
-                Scene::FullLammps => scene_step::<2>(&model, &c),
-                Scene::SlidingExact => scene_step::<3>(&model, &c),
-                Scene::SlidingRollingExact => scene_step::<4>(&model, &c),
-                Scene::SlidingLammps => scene_step::<5>(&model, &c),
-                Scene::RollingTwistingLammps => scene_step::<6>(&model, &c),
-                Scene::RollingTwistingExact => scene_step::<7>(&model, &c),
-                Scene::SlidingRollingLammps => scene_step::<8>(&model, &c),
-                Scene::FullLammpsMarshall => scene_step::<9>(&model, &c),
-                Scene::FullExactMarshall => scene_step::<10>(&model, &c),
-                Scene::RollingExact => scene_step::<11>(&model, &c),
-                Scene::RollingLammps => scene_step::<12>(&model, &c),
-                Scene::TwistingLammps => scene_step::<13>(&model, &c),
-                Scene::SlidingTwistingLammps => scene_step::<14>(&model, &c),
-                Scene::TwistingExact => scene_step::<15>(&model, &c),
-                Scene::SlidingTwistingExact => scene_step::<16>(&model, &c),
-                Scene::SlidingCdtLiggghts => scene_step::<17>(&model, &c),
-                Scene::SlidingEpsd2Liggghts => scene_step::<18>(&model, &c),
-                Scene::Generic => unreachable!("scene_models gives specialised scenes"),
-            };
-            let Some((passed, o, next)) = step else {
+            let Some((passed, o, next)) = fast_step(&model, &c) else {
                 continue;
             };
             stepped += 1;
@@ -391,7 +346,7 @@ fn scene_result_test_never_passes_a_non_finite_result() {
                 .all(|x| x.is_finite());
             assert!(
                 all_finite || !passed,
-                "{scene:?} case {i}: passed a non-finite result {o:?} {next:?}"
+                "model {k} case {i}: passed a non-finite result {o:?} {next:?}"
             );
             if !all_finite {
                 non_finite += 1;
@@ -407,11 +362,14 @@ fn scene_result_test_never_passes_a_non_finite_result() {
                     hidden += 1;
                 }
             }
-            // The state values the test leaves out are the input's.
-            assert_eq!(
-                next.twisting_offaxis.map(f64::to_bits),
-                c.state.twisting_offaxis.map(f64::to_bits)
-            );
+            // The state values the test leaves out are the input's (the off-axis twist is
+            // written by YADE's vector twisting only).
+            if !written_fields(&model).twisting_offaxis {
+                assert_eq!(
+                    next.twisting_offaxis.map(f64::to_bits),
+                    c.state.twisting_offaxis.map(f64::to_bits)
+                );
+            }
             if model.sliding.law == SlidingLaw::None {
                 assert_eq!(
                     next.sliding_spring.map(f64::to_bits),
@@ -439,22 +397,4 @@ fn scene_result_test_never_passes_a_non_finite_result() {
     // The extremes must reach the cases the argument is about.
     assert!(non_finite > 1000, "only {non_finite} non-finite results");
     assert!(hidden > 100, "only {hidden} non-finite law outputs");
-}
-
-/// A scene's kernels may run a model only if folding the scene's constants into it gives the
-/// model back. A model that differs from a scene only in its rolling stiffness rule (derived
-/// from `k_n` instead of given) gets the generic kernel: folding would make the rule `Given`.
-#[test]
-fn every_model_folds_back_to_itself_in_its_scene() {
-    for model in models() {
-        let scene = Scene::classify(&model);
-        assert_eq!(fold(scene, &model), model, "{scene:?}");
-    }
-    let mut derived = full_model(Preset::Objective, Transport::Exact);
-    derived.rolling.stiffness_rule = RollingStiffness::Epsd;
-    assert_eq!(Scene::classify(&derived), Scene::Generic);
-    assert_eq!(
-        fold(Scene::FullExact, &derived).rolling.stiffness_rule,
-        RollingStiffness::Given
-    );
 }

@@ -379,6 +379,167 @@ fn stock_granular_and_granular_rollslide_lammps_agree() {
     }
 }
 
+/// (a) with several atom types: in.packing with `types 3` (each atom's type at random, so that
+/// the type pair changes from one neighbour-list entry to the next, and one pair_coeff per type
+/// pair, each with its own stiffness, damping, friction, rolling and twisting coefficients),
+/// compared as in (a): stock `pair_style granular` and `granular/rollslide lammps` per atom over
+/// the first 20 steps to 1e-10, and the macroscopic curves over 3000 steps to 1e-6 of each
+/// curve's largest value (the tolerances of (a), for the reasons given there). The style steps
+/// the contacts of all type pairs of one law set in one batch call, with one model holding a
+/// table of the pairs' coefficient sets and each contact's index into it, so these runs check
+/// that each contact gets its own type pair's coefficients.
+///
+/// Laws (in.packing): A (one law set, the contacts of all six type pairs in the same calls); B
+/// (one law set, the table with per-contact `k_t` and `gamma_t`); M (by type pair: law A, law B
+/// and law B with twisting sds, so two law sets, one of them mixing pairs with per-contact
+/// sliding coefficients and pairs with constant ones). Control: the 3-type run of each law
+/// differs from its 1-type run by more than 1e-2 of the median load at step 20 (the
+/// per-pair coefficients matter). Then law M with 2 ranks, newton on and atom sorting, the
+/// packing moving through the subdomains as in (b): the loads at step 600 are those of one rank
+/// to 1e-8 of the median load (the contacts with a ghost atom, in the other batch call, and
+/// the state swaps, with the model of the swapped type pair).
+#[test]
+fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree() {
+    let Some(exe) = binary() else { return };
+    let dir = rundir("types");
+    for law in ["A", "B", "M"] {
+        let mut dumps = Vec::new();
+        for (pair, preset, types) in [
+            ("granular", "", "3"),
+            ("granular/rollslide", "lammps", "3"),
+            ("granular/rollslide", "lammps", "1"),
+        ] {
+            if law == "M" && types == "1" {
+                continue; // law M needs several types
+            }
+            let dump = format!("{}_{law}_types{types}.dump", pair.replace('/', "_"));
+            lammps(
+                exe,
+                &dir,
+                1,
+                "in.packing",
+                &[
+                    ("pair", pair),
+                    ("preset", preset),
+                    ("law", law),
+                    ("types", types),
+                    ("steps", "20"),
+                    ("dumpevery", "1"),
+                    ("dump", &dump),
+                ],
+            );
+            dumps.push(read_dump(&dir.join(dump)));
+        }
+        let (mut wf, mut wt) = (0.0f64, 0.0f64);
+        for (step, rows) in &dumps[0] {
+            let (f, t) = compare(rows, &dumps[1][step]);
+            wf = wf.max(f.relative);
+            wt = wt.max(t.relative);
+        }
+        println!(
+            "law {law}, 3 types: steps 0-20, worst per-atom relative difference force {wf:.2e}, torque {wt:.2e}"
+        );
+        assert!(
+            wf < 1e-10 && wt < 1e-10,
+            "law {law}, 3 types: granular/rollslide lammps differs from pair granular (force {wf:.2e}, torque {wt:.2e})"
+        );
+        if let Some(one_type) = dumps.get(2) {
+            let (f, t) = compare(&dumps[1][&20], &one_type[&20]);
+            println!(
+                "control, law {law}: 3 types vs 1 type at step 20: force {:.2e}, torque {:.2e} of the median load",
+                f.over_median, t.over_median
+            );
+            assert!(
+                f.over_median > 1e-2 && t.over_median > 1e-2,
+                "law {law}: the per-type coefficients changed nothing"
+            );
+        }
+    }
+
+    // The longer run: the curves (law M).
+    let mut curves = Vec::new();
+    for (pair, preset) in [("granular", ""), ("granular/rollslide", "lammps")] {
+        let log = lammps(
+            exe,
+            &dir,
+            1,
+            "in.packing",
+            &[
+                ("pair", pair),
+                ("preset", preset),
+                ("law", "M"),
+                ("types", "3"),
+                ("steps", "3000"),
+            ],
+        );
+        curves.push(thermo(&log));
+    }
+    assert_eq!(curves[0].len(), 31, "thermo rows of the 3000-step run");
+    assert_eq!(curves[0].len(), curves[1].len());
+    let names = [
+        "kinetic energy",
+        "rotational energy",
+        "coordination",
+        "mean |torque|",
+        "pressure",
+    ];
+    for (c, name) in names.iter().enumerate() {
+        let col = c + 1;
+        let scale = curves[0].iter().map(|r| r[col].abs()).fold(0.0, f64::max);
+        let worst = curves[0]
+            .iter()
+            .zip(&curves[1])
+            .map(|(a, b)| (a[col] - b[col]).abs() / scale)
+            .fold(0.0, f64::max);
+        println!(
+            "law M, 3 types, {name}: from {:.6} to {:.6}, worst difference {worst:.2e} of its largest value",
+            curves[0][0][col],
+            curves[0].last().unwrap()[col]
+        );
+        assert!(
+            worst < 1e-6,
+            "law M, 3 types: {name} differs by {worst:.2e}"
+        );
+    }
+
+    // Two ranks, newton on, sorting, the packing moving through the subdomains.
+    let moving = |np: usize, newton: &str, sort: &str| {
+        let dump = format!("moving_M_np{np}_{newton}_sort{sort}.dump");
+        lammps(
+            exe,
+            &dir,
+            np,
+            "in.packing",
+            &[
+                ("pair", "granular/rollslide"),
+                ("preset", "lammps"),
+                ("law", "M"),
+                ("types", "3"),
+                ("newton", newton),
+                ("sort", sort),
+                ("vbulk", "20"),
+                ("steps", "600"),
+                ("dumpevery", "600"),
+                ("dump", &dump),
+            ],
+        );
+        read_dump(&dir.join(dump))
+    };
+    let one = moving(1, "off", "0");
+    let two = moving(2, "on", "10");
+    let (f, t) = compare(&one[&600], &two[&600]);
+    println!(
+        "law M, 3 types, np 2 newton on sort 10 vs np 1: step 600, force {:.2e}, torque {:.2e} of the median load",
+        f.over_median, t.over_median
+    );
+    assert!(
+        f.over_median < 1e-8 && t.over_median < 1e-8,
+        "law M, 3 types: np 2 differs from one rank: force {:.2e}, torque {:.2e}",
+        f.over_median,
+        t.over_median
+    );
+}
+
 /// (b) Ranks and newton: the packing moves as a whole at speed 20 along z (relative motion
 /// unchanged) through 2 subdomains split at z = 8, so that after 600 steps (1.2 box units)
 /// hundreds of atoms have changed rank, and crossed the periodic boundary, with their contacts

@@ -22,13 +22,14 @@
 //! replaces: the results are bitwise the same.
 
 use super::{
-    geometry_in, lane_bits, needs_normal_stiffness, scene, step_error, BatchReport, Lanes,
-    LoadsSlot, PairLoads, StateSlot, StepAccess, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING,
-    TOUCH_AHEAD,
+    geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport, Lanes, LoadsSlot,
+    Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess, SLIP_ROLLING, SLIP_SLIDING,
+    SLIP_TWISTING, TOUCH_AHEAD,
 };
-use crate::batch::{Scene, SphereSlot};
+use crate::batch::SphereSlot;
 use crate::decompose::Sphere;
 use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid};
+use crate::laws::materials::{Coefficients, COEFFICIENTS, SLIDING_DAMPING, SLIDING_STIFFNESS};
 use crate::laws::model::Model;
 use crate::laws::step::{
     contact_step_with_geometry, written_fields, ContactState, Partner, StepInput, StepOutput,
@@ -316,9 +317,10 @@ struct Block {
     body2: [Row; BODY_WORDS],
     normal_force: Row,
     normal_stiffness: Row,
-    /// Per-contact `k_t` and `gamma_t` (when the call gives them).
-    sliding_stiffness: Row,
-    sliding_damping: Row,
+    /// Per-contact coefficients ([`COEFFICIENTS`] order, see `laws::materials`): each contact's
+    /// material pair's when the call gives a table, with `k_t` and `gamma_t` from the call's
+    /// arrays when it gives them (only those two rows are filled without a table).
+    coefficients: [Row; COEFFICIENTS],
     /// The state in [`STATE_WORDS`] order. The step writes the new state over it.
     state: [Row; STATE_WORDS],
     /// Force on body 1 (3), torque on body 1 (3), torque on body 2 (3).
@@ -338,8 +340,7 @@ impl Block {
             body2: [[0.0; BLOCK]; BODY_WORDS],
             normal_force: [0.0; BLOCK],
             normal_stiffness: [1.0; BLOCK],
-            sliding_stiffness: [0.0; BLOCK],
-            sliding_damping: [0.0; BLOCK],
+            coefficients: [[0.0; BLOCK]; COEFFICIENTS],
             state: [[0.0; BLOCK]; STATE_WORDS],
             loads: [[0.0; BLOCK]; 9],
             slip: [0; BLOCK],
@@ -440,10 +441,15 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
                 b.normal_stiffness[g + k] = access.normal_stiffness(contact(k));
             }
         }
-        for (row, given) in [
-            (&mut b.sliding_stiffness, sliding.stiffness),
-            (&mut b.sliding_damping, sliding.damping),
-        ] {
+        let mut material_ok = lane_bits(GROUP);
+        if let Some(m) = &sliding.materials {
+            material_ok = gather_materials(m, &contact, &mut b.coefficients, g);
+        }
+        let [k_t, gamma_t] = b
+            .coefficients
+            .get_disjoint_mut([SLIDING_STIFFNESS, SLIDING_DAMPING])
+            .expect("two coefficient rows");
+        for (row, given) in [(k_t, sliding.stiffness), (gamma_t, sliding.damping)] {
             if let Some(values) = given {
                 if whole {
                     row[g..g + GROUP].copy_from_slice(&group_at(values, c0 + g));
@@ -460,13 +466,57 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
             states: group_mut(&mut b.state, g),
         };
         let index_ok = access.copy_group(copy, c0 + g, (count - g).min(GROUP), in_range, rows);
-        b.index_ok |= index_ok << g;
+        b.index_ok |= (index_ok & material_ok) << g;
         g += GROUP;
     }
 }
 
+/// Fills slots `g..g + GROUP` of the coefficient rows with the material pairs of the contacts
+/// `contact(0..GROUP)`; returns a bit per slot whose material index is in the table (a slot
+/// out of range gets the table's last set, and its contact is refused).
+#[inline(always)]
+fn gather_materials(
+    m: &Materials<'_>,
+    contact: &impl Fn(usize) -> usize,
+    rows: &mut [Row; COEFFICIENTS],
+    g: usize,
+) -> u64 {
+    let last = m.table.len().saturating_sub(1);
+    let mut ok = 0;
+    for k in 0..GROUP {
+        let i = m.index[contact(k)] as usize;
+        ok |= u64::from(i < m.table.len()) << k;
+        let set = m.table.get(i.min(last)).copied().unwrap_or_default();
+        for (row, v) in rows.iter_mut().zip(set.values) {
+            row[g + k] = v;
+        }
+    }
+    ok
+}
+
 /// Centres and radii of `N` contacts' two bodies, in `f64` lanes.
 type Centres<G> = (Vec3<G>, Vec3<G>, G, G);
+
+/// Which per-contact coefficients a call gives: `k_t` and `gamma_t` arrays, a table of
+/// material pairs.
+#[derive(Clone, Copy, Debug)]
+struct Given {
+    stiffness: bool,
+    damping: bool,
+    materials: bool,
+}
+
+impl Given {
+    /// What `c` gives.
+    #[inline(always)]
+    fn of(c: &SlidingOverrides<'_>) -> Given {
+        Given {
+            stiffness: c.stiffness.is_some(),
+            damping: c.damping.is_some(),
+            materials: c.materials.is_some(),
+        }
+    }
+}
 
 /// Where a step reads the inputs of its `L::N` contacts, one per lane: the block's rows
 /// ([`RowsAt`]) or one contact's structs ([`Single`]). Each group is read where the step first
@@ -478,8 +528,12 @@ trait LaneSource<L: Lanes> {
     fn bodies(&self) -> (Sphere<L>, Sphere<L>);
     /// `f_n`, and `k_n` when `needs_kn` (else 1).
     fn forces(&self, needs_kn: bool) -> (L, L);
-    /// The per-contact `k_t` and `gamma_t`, each where `given` says the call has them.
-    fn sliding(&self, given: (bool, bool)) -> (Option<L>, Option<L>);
+    /// The per-contact `k_t` and `gamma_t` arrays' values, each where `given` says the call
+    /// has them.
+    fn sliding(&self, given: Given) -> (Option<L>, Option<L>);
+    /// The contacts' material coefficients, where `given` says the call has a table (with the
+    /// `k_t` and `gamma_t` arrays' values over them).
+    fn materials(&self, given: Given) -> Option<[L; COEFFICIENTS]>;
     /// The contacts' state.
     fn state(&self) -> ContactState<L>;
 }
@@ -519,21 +573,30 @@ impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
         (L::load(&b.normal_force[at..]), k_n)
     }
     #[inline(always)]
-    fn sliding(&self, given: (bool, bool)) -> (Option<L>, Option<L>) {
+    fn sliding(&self, given: Given) -> (Option<L>, Option<L>) {
         // `if`, not `bool::then` with a closure: LLVM left that closure out of line in the
         // AVX2 single-precision kernels (scripts/check_kernels.sh now fails on it).
         let (b, at) = (self.block, self.at);
-        let stiffness = if given.0 {
-            Some(L::load(&b.sliding_stiffness[at..]))
+        let stiffness = if given.stiffness {
+            Some(L::load(&b.coefficients[SLIDING_STIFFNESS][at..]))
         } else {
             None
         };
-        let damping = if given.1 {
-            Some(L::load(&b.sliding_damping[at..]))
+        let damping = if given.damping {
+            Some(L::load(&b.coefficients[SLIDING_DAMPING][at..]))
         } else {
             None
         };
         (stiffness, damping)
+    }
+    #[inline(always)]
+    fn materials(&self, given: Given) -> Option<[L; COEFFICIENTS]> {
+        let (b, at) = (self.block, self.at);
+        if given.materials {
+            Some(std::array::from_fn(|q| L::load(&b.coefficients[q][at..])))
+        } else {
+            None
+        }
     }
     #[inline(always)]
     fn state(&self) -> ContactState<L> {
@@ -555,6 +618,8 @@ struct Single {
     normal_force: f64,
     normal_stiffness: f64,
     sliding: (Option<f64>, Option<f64>),
+    /// The contact's material pair, when the call has a table.
+    material: Option<Coefficients>,
     state: ContactState<f64>,
 }
 
@@ -600,9 +665,14 @@ impl<L: Lanes> LaneSource<L> for Single {
         (L::from_fn(|_| self.normal_force), k_n)
     }
     #[inline(always)]
-    fn sliding(&self, _given: (bool, bool)) -> (Option<L>, Option<L>) {
+    fn sliding(&self, _given: Given) -> (Option<L>, Option<L>) {
         let lanes = |v: Option<f64>| v.map(|v| L::from_fn(|_| v));
         (lanes(self.sliding.0), lanes(self.sliding.1))
+    }
+    #[inline(always)]
+    fn materials(&self, _given: Given) -> Option<[L; COEFFICIENTS]> {
+        self.material
+            .map(|set| set.values.map(|v| L::from_fn(|_| v)))
     }
     #[inline(always)]
     fn state(&self) -> ContactState<L> {
@@ -740,8 +810,8 @@ fn inputs_ok<L: Lanes>(
 
 /// The lanes whose loads, new state and (when the model tracks energy) energy terms are
 /// finite: the per-contact checked step refuses a step whose energy terms overflow, so the
-/// batch does too, although it does not return them. `track_energy` is the (folded) model's:
-/// a constant false in every specialised scene kernel, so they test nothing more. The state
+/// batch does too, although it does not return them. `track_energy` is the model's,
+/// decided once per call, so a model that does not track energy tests nothing more. The state
 /// fields outside `written`, which the step cannot change, are not tested again: they are as
 /// the inputs' test found them, and a lane whose inputs failed is refused whatever its
 /// results.
@@ -778,17 +848,28 @@ fn results_ok<L: Lanes>(
     finite.ok()
 }
 
-/// The step input of `L::N` contacts.
+/// The step input of `L::N` contacts: a material pair's coefficients when the call has a
+/// table, and the call's `k_t` and `gamma_t` arrays over them.
 #[inline(always)]
 fn step_input<L: Lanes>(
+    model: &Model,
     force: L,
     stiffness: L,
     sliding: (Option<L>, Option<L>),
+    materials: Option<[L; COEFFICIENTS]>,
     dt: f64,
 ) -> StepInput<L> {
     let mut input = StepInput::new(force, L::from_fn(|_| dt));
     input.normal_stiffness = stiffness;
-    (input.sliding_stiffness, input.sliding_damping) = sliding;
+    if let Some(values) = materials {
+        Coefficients::apply(model, values, &mut input);
+    }
+    if sliding.0.is_some() {
+        input.sliding_stiffness = sliding.0;
+    }
+    if sliding.1.is_some() {
+        input.sliding_damping = sliding.1;
+    }
     input
 }
 
@@ -800,7 +881,7 @@ fn step_inputs<L: Lanes>(
     model: &Model,
     dt: f64,
     needs_kn: bool,
-    given: (bool, bool),
+    given: Given,
     source: &impl LaneSource<L>,
 ) -> LaneResults<L> {
     debug_assert_eq!(
@@ -814,6 +895,7 @@ fn step_inputs<L: Lanes>(
     let (body1, body2) = source.bodies();
     let (force, stiffness) = source.forces(needs_kn);
     let sliding = source.sliding(given);
+    let materials = source.materials(given);
     let mut state = source.state();
     let fused = L::FUSED_PROBE;
     let kn = needs_kn.then_some(stiffness);
@@ -823,7 +905,7 @@ fn step_inputs<L: Lanes>(
         geometry_in::<L>(&g, &g),
         &body1,
         Partner::Sphere(&body2),
-        &step_input(force, stiffness, sliding, dt),
+        &step_input(model, force, stiffness, sliding, materials, dt),
         &mut state,
     );
     let written = written_fields(model);
@@ -887,7 +969,7 @@ fn step_lanes<L: Lanes>(
     model: &Model,
     dt: f64,
     needs_kn: bool,
-    given: (bool, bool),
+    given: Given,
     fused: bool,
     at: usize,
     b: &mut Block,
@@ -899,6 +981,7 @@ fn step_lanes<L: Lanes>(
     let (body1, body2) = LaneSource::<L>::bodies(&src);
     let (force, stiffness) = LaneSource::<L>::forces(&src, needs_kn);
     let sliding = LaneSource::<L>::sliding(&src, given);
+    let materials = LaneSource::<L>::materials(&src, given);
     let mut state = LaneSource::<L>::state(&src);
     let kn = needs_kn.then_some(stiffness);
     let inputs_ok = inputs_ok(&body1, &body2, force, kn, sliding, &state, fused);
@@ -907,7 +990,7 @@ fn step_lanes<L: Lanes>(
         geometry_in::<L>(&g, &g),
         &body1,
         Partner::Sphere(&body2),
-        &step_input(force, stiffness, sliding, dt),
+        &step_input(model, force, stiffness, sliding, materials, dt),
         &mut state,
     );
     let l = &out.loads;
@@ -953,15 +1036,13 @@ fn step_lanes<L: Lanes>(
 }
 
 /// Steps contact `c` on its own (one-lane types: staging through rows would only add copies),
-/// reading the host's structs and delivering as [`deliver`] does. `model` is the folded model
-/// the step reads, `host_model` the host's, which the report of a refused contact reads.
+/// reading the host's structs and delivering as [`deliver`] does.
 #[cfg_attr(not(debug_assertions), inline(always))]
 #[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
 #[allow(clippy::too_many_arguments)]
 fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
     access: &mut A,
     model: &Model,
-    host_model: &Model,
     dt: f64,
     needs_kn: bool,
     c: usize,
@@ -973,6 +1054,9 @@ fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
     }
     let (one, two, index_ok) = access.body_refs(c);
     let (one, two): (Sphere<f64>, Sphere<f64>) = (one.sphere(), two.sphere());
+    let coefficients = access.sliding_overrides();
+    // `Some(None)`: an index out of the table, refused below.
+    let material = coefficients.material(c);
     let single = Single {
         body1: one,
         body2: two,
@@ -982,11 +1066,13 @@ fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
         } else {
             1.0
         },
-        sliding: access.sliding_overrides().at(c),
+        sliding: coefficients.at(c),
+        material: material.flatten().copied(),
         state: access.state_ref(c).load(),
     };
-    let r = step_inputs::<L>(model, dt, needs_kn, (false, false), &single);
-    if index_ok && r.valid & 1 == 1 {
+    let material_ok = material.is_none_or(|m| m.is_some());
+    let r = step_inputs::<L>(model, dt, needs_kn, Given::of(&coefficients), &single);
+    if index_ok && material_ok && r.valid & 1 == 1 {
         let f64s = |v: &Vec3<L>| Vec3::new(v.x.lane(0), v.y.lane(0), v.z.lane(0));
         let arr = |v: &Vec3<L>| [v.x.lane(0), v.y.lane(0), v.z.lane(0)];
         let new = ContactState {
@@ -1007,7 +1093,7 @@ fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
         );
         report.processed += 1;
     } else {
-        refuse(access, host_model, dt, needs_kn, c, report);
+        refuse(access, model, dt, needs_kn, c, report);
     }
 }
 
@@ -1033,6 +1119,7 @@ fn refuse<A: StepAccess>(
                 1.0
             },
             access.sliding_overrides().at(c),
+            access.sliding_overrides().material(c),
             &access.state_ref(c).load(),
         )
     });
@@ -1083,56 +1170,37 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
 }
 
 /// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:
-/// [`super::check_batch_model`], [`super::check_time_step`]). `L` is the lane type, `S` the
-/// [`Scene`] code (its constants must match `model`: use [`Scene::classify`], or 0). `copy`
+/// [`super::check_batch_model`], [`super::check_time_step`]). `L` is the lane type. `copy`
 /// moves the groups of contacts between the host's structs and the block (the one-lane
-/// kernels do not use it: they read the structs directly).
+/// kernels do not use it: they read the structs directly). The model's law choices are taken
+/// at run time, once per call: one kernel per lane type, access and prefetching choice runs
+/// every model.
 ///
 /// `PREFETCH`: whether to touch the contacts ahead; pass
 /// [`Gather::prefetching`](super::Gather::prefetching) of `access`. It is a constant, so that
-/// a caller compiles the two kernels as separate functions, the prefetching one the same code
-/// as before the choice existed: a run-time test in the loops, or two copies in one function,
-/// changed how other kernels compiled (in cache a few took 1.2-1.7x the time; at 1.2M contacts
-/// some took 8-26% more).
+/// a caller compiles the two kernels as separate functions and the choice costs nothing per
+/// contact.
 ///
 /// **Unoptimised builds** keep the step's large parts out of line: `gather`, `step_lanes`,
 /// `step_one`, `deliver` and `laws::step::contact_step_with_geometry` are `#[inline]` with
 /// debug assertions on (the unoptimised `dev` and `test` profiles; also the optimised `stress`
-/// profile, where LLVM decides), `#[inline(always)]` without (release). Unoptimised, `#[inline(always)]` still inlines, and without optimisation
-/// nothing of the copy is folded away, so each of the library's 864 kernels carried all of
-/// the physics; out of line, rustc compiles one copy per lane type (and per access for the
-/// gather and the delivery). The unoptimised library took 17m34s and 21.2 GB of memory in one
-/// rustc process (the CI machine has 23 GB) to build on the 2-core Zen 3 host of
-/// docs/performance.md, and 32 s and 0.86 GB so; every test program, 1m08s and 0.77 GB. The
-/// results are the same to the bit: Rust does not contract or reorder floating-point
-/// operations, inlined or not. Unoptimised, the kernels never had the scene's constants
-/// folded in anyway (`tests/batch.rs` checks them against the per-contact step either way).
+/// profile, where LLVM decides), `#[inline(always)]` without (release): without optimisation
+/// nothing of an inlined copy is folded away, so rustc compiles one copy per lane type instead
+/// of one inside each kernel. The results are the same to the bit: Rust does not contract or
+/// reorder floating-point operations, inlined or not.
 #[inline(always)]
-pub fn step_kernel<
-    L: Lanes,
-    const S: u8,
-    const PREFETCH: bool,
-    A: StepAccess,
-    X: GroupCopy<A::P, A::State>,
->(
+pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     model: &Model,
     dt: f64,
     access: &mut A,
     copy: X,
 ) -> BatchReport {
-    // Only the inlined step reads `folded`: the out-of-line `refuse` gets the host's `model`
-    // (the same fields, since the scene matches it). Had its address reached a call, LLVM
-    // would keep the folded model in memory and test the scene's fields at run time.
-    let folded = scene::fold(Scene::from_code(S), model);
     const { assert!(BLOCK.is_multiple_of(L::N)) };
     let needs_kn = needs_normal_stiffness(model);
-    // Fused finiteness tests in the scene kernels only. With them, two of the three double AVX2
-    // generic full-set kernels took 4-5% more time in cache (for fewer instructions); the
-    // generic kernels' time also moves by several percent with code placement alone, so the
-    // fused form is kept where it was measured to help.
-    let fused = !matches!(Scene::from_code(S), Scene::Generic);
-    // A group's states get back only the words the step can change (a constant per scene).
-    let copy = copy.writing(written_words(written_fields(&folded)));
+    // Fused finiteness tests where the lanes have them (see `FiniteLanes`).
+    let fused = true;
+    // A group's states get back only the words the step can change (decided by the model).
+    let copy = copy.writing(written_words(written_fields(model)));
     let n = access.len();
     let mut report = BatchReport::default();
     if super::refuse_ungatherable(&*access, n, &mut report) {
@@ -1140,12 +1208,12 @@ pub fn step_kernel<
     }
     if L::N == 1 {
         for c in 0..n {
-            step_one::<PREFETCH, L, A>(access, &folded, model, dt, needs_kn, c, &mut report);
+            step_one::<PREFETCH, L, A>(access, model, dt, needs_kn, c, &mut report);
         }
         return report;
     }
     let sliding = access.sliding_overrides();
-    let given = (sliding.stiffness.is_some(), sliding.damping.is_some());
+    let given = Given::of(&sliding);
     let mut block = Block::new();
     let mut c0 = 0;
     while c0 < n {
@@ -1154,7 +1222,7 @@ pub fn step_kernel<
         block.valid = 0;
         let mut at = 0;
         while at < count {
-            step_lanes::<L>(&folded, dt, needs_kn, given, fused, at, &mut block);
+            step_lanes::<L>(model, dt, needs_kn, given, fused, at, &mut block);
             // What the contacts `TOUCH_AHEAD` further on read in contact order, one lane
             // step's worth after each step: spread among the arithmetic, where the gather issues
             // the scattered rest a group at a time ([`Gather::touch_in_order`]).
@@ -1204,8 +1272,7 @@ mod tests {
             offset_of!(Block, body2),
             offset_of!(Block, normal_force),
             offset_of!(Block, normal_stiffness),
-            offset_of!(Block, sliding_stiffness),
-            offset_of!(Block, sliding_damping),
+            offset_of!(Block, coefficients),
             offset_of!(Block, state),
             offset_of!(Block, loads),
         ];

@@ -3,9 +3,9 @@
 //! The kernels run **the same generic functions** as the per-contact path
 //! ([`pair_geometry_unchecked`], [`decompose_pair_with_geometry`],
 //! [`contact_step_with_geometry`](crate::laws::step::contact_step_with_geometry)), instantiated
-//! for a lane type ([`Lanes`]: `f64`, `f32`, or an `AutoSimd` pack of 4 or 8 contacts) and for
-//! a [`Scene`] (a const parameter that folds the model's law choices), so a batch result equals
-//! the per-contact result of the same precision.
+//! for a lane type ([`Lanes`]: `f64`, `f32`, or a SIMD pack of 4 to 16 contacts), so a batch
+//! result equals the per-contact result of the same precision. The model's law choices are
+//! taken once per call, never per contact.
 //!
 //! Two ways to feed them ([`StepAccess`], [`DecomposeAccess`]):
 //! - particle-major ([`ParticleSteps`], [`ParticleDecompose`]): particle array + contact index
@@ -29,7 +29,6 @@
 pub mod block;
 pub mod history;
 pub mod lanes;
-pub mod scene;
 pub mod states;
 
 #[cfg(all(test, target_arch = "x86_64"))]
@@ -40,7 +39,6 @@ pub(crate) use block::{group_of, pair_bodies_by_reference, store_loads_by_value,
 pub use block::{step_kernel, GroupCopy, GroupRow, GroupRowsMut, LoadRows, PortableCopy};
 pub(crate) use block::{GROUP, STATE_WORDS};
 pub use lanes::{Lanes, MAX_LANES};
-pub use scene::Scene;
 pub use states::{ContactStates, IndexedStates};
 
 use crate::decompose::{
@@ -51,6 +49,8 @@ use crate::geometry::{
     pair_geometry_unchecked, pair_geometry_valid, ContactGeometry, GeometryOptions,
 };
 use crate::laws::checked::contact_step_pair;
+use crate::laws::materials::Coefficients;
+pub use crate::laws::materials::Materials;
 use crate::laws::model::{Model, RollingDamping, RollingLaw};
 use crate::laws::step::{ContactState, StepInput};
 use crate::scalar::{finite_probe as probe, zero_if_finite as zf, Vec3};
@@ -471,15 +471,19 @@ fn pair_bodies<P: SphereSlot>(
     Some((a.sphere(), b.sphere()))
 }
 
-/// Per-contact sliding coefficients of a step call, used instead of the model's (as
+/// Per-contact coefficients of a step call, used instead of the model's: sliding arrays (as
 /// `rsl_contact_step` uses `RSL_INPUT_SLIDING_STIFFNESS` and `RSL_INPUT_SLIDING_DAMPING`), e.g.
-/// the contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin laws.
+/// the contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin laws, and a table of
+/// material pairs with each contact's entry ([`Materials`]). A given array wins over the
+/// contact's material for its coefficient.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SlidingOverrides<'a> {
     /// `k_t` per contact (force/length, finite, >= 0), or `None` for the model's.
     pub stiffness: Option<&'a [f64]>,
     /// `gamma_t` per contact (force/velocity, finite, >= 0), or `None` for the model's.
     pub damping: Option<&'a [f64]>,
+    /// Each contact's material pair, or `None`: the model's coefficients for every contact.
+    pub materials: Option<Materials<'a>>,
 }
 
 impl SlidingOverrides<'_> {
@@ -487,22 +491,33 @@ impl SlidingOverrides<'_> {
     pub const NONE: SlidingOverrides<'static> = SlidingOverrides {
         stiffness: None,
         damping: None,
+        materials: None,
     };
 
-    /// The overrides of contact `c`.
+    /// The sliding overrides of contact `c`.
     #[inline(always)]
     pub fn at(&self, c: usize) -> (Option<f64>, Option<f64>) {
         (self.stiffness.map(|k| k[c]), self.damping.map(|g| g[c]))
     }
 
+    /// Contact `c`'s material: `None` without a table, `Some(None)` for an index out of range.
+    #[inline(always)]
+    pub fn material(&self, c: usize) -> Option<Option<&Coefficients>> {
+        self.materials.as_ref().map(|m| m.at(c))
+    }
+
     /// Whether each array (when given) has `n` values.
     fn fits(&self, n: usize) -> bool {
-        self.stiffness.is_none_or(|k| k.len() == n) && self.damping.is_none_or(|g| g.len() == n)
+        self.stiffness.is_none_or(|k| k.len() == n)
+            && self.damping.is_none_or(|g| g.len() == n)
+            && self.materials.is_none_or(|m| m.index.len() == n)
     }
 
     /// The bytes of the given arrays.
     fn bytes(&self) -> usize {
-        self.stiffness.map_or(0, size_of_val) + self.damping.map_or(0, size_of_val)
+        self.stiffness.map_or(0, size_of_val)
+            + self.damping.map_or(0, size_of_val)
+            + self.materials.map_or(0, |m| size_of_val(m.index))
     }
 }
 
@@ -1282,6 +1297,7 @@ fn gather<L: Lanes, P: SphereSlot>(
 
 /// The error the checked per-contact step gives for a contact the kernel refused.
 #[cold]
+#[allow(clippy::too_many_arguments)]
 fn step_error(
     model: &Model,
     dt: f64,
@@ -1289,16 +1305,25 @@ fn step_error(
     f_n: f64,
     k_n: f64,
     sliding: (Option<f64>, Option<f64>),
+    material: Option<Option<&Coefficients>>,
     state: &ContactState<f64>,
 ) -> Error {
     let Some((b1, b2)) = bodies else {
         return Error::InvalidArgument("contact's particle index out of range".to_string());
     };
+    // A contact's material pair steps as the model with that pair's coefficients.
+    let material_model = match material {
+        None => *model,
+        Some(None) => {
+            return Error::InvalidArgument("contact's material index out of range".to_string())
+        }
+        Some(Some(set)) => set.model(model),
+    };
     let mut input = StepInput::new(f_n, dt);
     input.normal_stiffness = k_n;
     (input.sliding_stiffness, input.sliding_damping) = sliding;
     let mut s = *state;
-    match contact_step_pair(model, &b1, &b2, &input, &mut s) {
+    match contact_step_pair(&material_model, &b1, &b2, &input, &mut s) {
         Err(e) => e,
         Ok(_) => Error::NonFinite("result overflowed in the batch's precision"),
     }

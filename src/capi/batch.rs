@@ -1,6 +1,6 @@
 //! Batch entry points: many contacts per call (`rsl_batch_step`, `rsl_batch_step_contacts`,
 //! `rsl_batch_decompose`, `rsl_batch_decompose_contacts`), the kernel choice (precision, SIMD
-//! level, scene specialisation) and the run-time CPU dispatch.
+//! level) and the run-time CPU dispatch.
 //!
 //! Data layout (particle-major calls): particles are an array of `rsl_sphere` (AoS: position,
 //! velocity, angular velocity, radius: 80 bytes, one or two cache lines per particle, which is
@@ -29,15 +29,14 @@ use crate::batch::history::{
     history_layout, history_words, state_from_words as history_state_from_words, words_from_state,
     HistoryLayout, NO_SLIDING, SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS,
 };
-use crate::batch::scene::with_scenes;
 #[cfg(target_arch = "x86_64")]
 use crate::batch::GroupCopy;
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactStates, ContactSteps, DecomposeAccess,
-    DecompositionSlot, Gather, IndexedStates, LoadsSlot, ModelSliding, PairLoads,
-    ParticleDecompose, ParticleSteps, PortableCopy, Scene, SlidingOverrides, SlidingSource,
-    SphereSlot, StateSlot, StepAccess,
+    DecompositionSlot, Gather, IndexedStates, LoadsSlot, Materials, ModelSliding, PairLoads,
+    ParticleDecompose, ParticleSteps, PortableCopy, SlidingOverrides, SlidingSource, SphereSlot,
+    StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
 use crate::error::Error;
@@ -69,73 +68,10 @@ pub const RSL_SIMD_AVX2: u32 = 2;
 /// if absent.
 pub const RSL_SIMD_AVX512: u32 = 3;
 
-/// Batch flag: do not use a scene-specialised kernel (take the law decisions at run time).
-pub const RSL_BATCH_GENERIC: u32 = 1;
-
 /// Value of `rsl_batch_report.first_failed` when no contact failed.
 pub const RSL_BATCH_NONE: u64 = u64::MAX;
 
-/// Scene kernel (`rsl_batch_report.scene`, `rsl_batch_scene`): the generic kernel, which runs
-/// any model the batch accepts (law decisions taken at run time).
-pub const RSL_SCENE_GENERIC: u32 = 0;
-/// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling (given
-/// stiffness and damping, length form) + sds twisting, no energy bookkeeping.
-pub const RSL_SCENE_FULL_EXACT: u32 = 1;
-/// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting sds.
-pub const RSL_SCENE_FULL_LAMMPS: u32 = 2;
-/// Scene kernel: objective preset, exact transport, linear sliding only.
-pub const RSL_SCENE_SLIDING_EXACT: u32 = 3;
-/// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling.
-pub const RSL_SCENE_SLIDING_ROLLING_EXACT: u32 = 4;
-/// Scene kernel: LAMMPS_2021 preset, linear history sliding only.
-pub const RSL_SCENE_SLIDING_LAMMPS: u32 = 5;
-/// Scene kernel: LAMMPS_2021 preset, rolling sds + twisting sds, no sliding law.
-pub const RSL_SCENE_ROLLING_TWISTING_LAMMPS: u32 = 6;
-/// Scene kernel: objective preset, exact transport, EPSD rolling + sds twisting, no sliding
-/// law.
-pub const RSL_SCENE_ROLLING_TWISTING_EXACT: u32 = 7;
-/// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds, no twisting law.
-pub const RSL_SCENE_SLIDING_ROLLING_LAMMPS: u32 = 8;
-/// Scene kernel: LAMMPS_2021 preset, linear history sliding + rolling sds + twisting marshall
-/// (`RSL_TWISTING_MARSHALL`).
-pub const RSL_SCENE_FULL_LAMMPS_MARSHALL: u32 = 9;
-/// Scene kernel: objective preset, exact transport, linear sliding + EPSD rolling + twisting
-/// marshall (`RSL_TWISTING_MARSHALL`).
-pub const RSL_SCENE_FULL_EXACT_MARSHALL: u32 = 10;
-/// Scene kernel: objective preset, exact transport, EPSD rolling only (no sliding or twisting
-/// law).
-pub const RSL_SCENE_ROLLING_EXACT: u32 = 11;
-/// Scene kernel: LAMMPS_2021 preset, project-rescale transport, EPSD rolling only (no sliding or
-/// twisting law).
-pub const RSL_SCENE_ROLLING_LAMMPS: u32 = 12;
-/// Scene kernel: LAMMPS_2021 preset, project-rescale transport, twisting sds only (no sliding or
-/// rolling law).
-pub const RSL_SCENE_TWISTING_LAMMPS: u32 = 13;
-/// Scene kernel: LAMMPS_2021 preset, project-rescale transport, linear history sliding +
-/// twisting sds (no rolling law).
-pub const RSL_SCENE_SLIDING_TWISTING_LAMMPS: u32 = 14;
-/// Scene kernel: objective preset, exact transport, twisting sds only (no sliding or rolling
-/// law).
-pub const RSL_SCENE_TWISTING_EXACT: u32 = 15;
-/// Scene kernel: objective preset, exact transport, linear sliding + twisting sds (no rolling
-/// law).
-pub const RSL_SCENE_SLIDING_TWISTING_EXACT: u32 = 16;
-/// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction cdt`), linear
-/// sliding (projected, no rescale) + the cdt rolling law (`RSL_ROLLING_CDT`, either form, on
-/// the elastic normal force `k_n delta`: the call needs `normal_stiffness`), no twisting law.
-/// The length form gives each contact LIGGGHTS' moment `mu_r R_eff k_n delta` from one `mu_r`.
-pub const RSL_SCENE_SLIDING_CDT_LIGGGHTS: u32 = 17;
-/// Scene kernel: LIGGGHTS_3_8 preset (`tangential history rolling_friction epsd2`), linear
-/// sliding (projected, no rescale) + EPSD rolling (`RSL_ROLLING_EPSD`) with the stiffness rule
-/// `RSL_STIFFNESS_EPSD2` (`k_t R_r^2`, from each contact's sliding stiffness: per-contact `k_t`
-/// through `rsl_batch_step_params` gives each contact its own), given damping acting below the
-/// limit only, either form, no twisting law. The angle form matches LIGGGHTS to rounding with
-/// one `eta` for every contact; the length form gives each contact LIGGGHTS' limit
-/// `mu_r R_eff f` from one `mu_r`, but keeps the spring as a displacement where LIGGGHTS keeps
-/// the moment (the two part slowly once the normal turns).
-pub const RSL_SCENE_SLIDING_EPSD2_LIGGGHTS: u32 = 18;
-
-/// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD, specialised.
+/// How a batch runs. Zero-initialised (or NULL) is the default: double, best SIMD.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct rsl_batch_options {
@@ -143,7 +79,7 @@ pub struct rsl_batch_options {
     pub precision: u32,
     /// `RSL_SIMD_AUTO`, `RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2` or `RSL_SIMD_AVX512`.
     pub simd: u32,
-    /// OR of `RSL_BATCH_*` flags.
+    /// Flags; none is defined in this version: keep 0 (`RSL_ERR_INVALID_ARGUMENT` otherwise).
     pub flags: u32,
     /// Padding; keep 0.
     pub reserved: u32,
@@ -166,8 +102,6 @@ pub struct rsl_batch_report {
     pub first_status: i32,
     /// The SIMD level that ran (`RSL_SIMD_SCALAR`, `RSL_SIMD_AVX2`, `RSL_SIMD_AVX512`).
     pub simd: u32,
-    /// The scene kernel that ran (`RSL_SCENE_*`; see `rsl_batch_scene`).
-    pub scene: u32,
     /// Padding.
     pub reserved: u32,
 }
@@ -436,8 +370,6 @@ pub struct BatchConfig {
     pub f32: bool,
     /// SIMD level (available on this CPU).
     pub simd: Simd,
-    /// Use a scene-specialised kernel when the model matches one.
-    pub specialise: bool,
 }
 
 impl BatchConfig {
@@ -453,7 +385,7 @@ impl BatchConfig {
                 )))
             }
         };
-        if o.flags & !RSL_BATCH_GENERIC != 0 {
+        if o.flags != 0 {
             return Err(Error::InvalidArgument(format!(
                 "batch flags 0x{:x} has unknown bits",
                 o.flags
@@ -464,15 +396,11 @@ impl BatchConfig {
         // build (in cache 27.5 against 29.3 ns per contact, full LAMMPS set); before the
         // staging it was the slower and `RSL_SIMD_AUTO` picked AVX2 for single precision.
         let simd = Simd::resolve(o.simd)?;
-        Ok(BatchConfig {
-            f32,
-            simd,
-            specialise: o.flags & RSL_BATCH_GENERIC == 0,
-        })
+        Ok(BatchConfig { f32, simd })
     }
 }
 
-// The kernels, one function per (precision, SIMD level); `S` is the scene code.
+// The kernels, one function per (precision, SIMD level) and prefetching choice `P`.
 
 /// A state type the C kernels step: the C struct `rsl_contact_state`, or a packed history
 /// record ([`Record`]), with the copiers that move its groups between memory and the block.
@@ -519,20 +447,12 @@ pub trait CAccess: StepAccess<P = rsl_sphere, State: CState> {}
 
 impl<A: StepAccess<P = rsl_sphere, State: CState>> CAccess for A {}
 
-fn scalar_f64<const S: u8, const P: bool, A: CAccess>(
-    m: &Model,
-    dt: f64,
-    a: &mut A,
-) -> BatchReport {
-    step_kernel::<f64, S, P, A, _>(m, dt, a, PortableCopy)
+fn scalar_f64<const P: bool, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
+    step_kernel::<f64, P, A, _>(m, dt, a, PortableCopy)
 }
 
-fn scalar_f32<const S: u8, const P: bool, A: CAccess>(
-    m: &Model,
-    dt: f64,
-    a: &mut A,
-) -> BatchReport {
-    step_kernel::<f32, S, P, A, _>(m, dt, a, PortableCopy)
+fn scalar_f32<const P: bool, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
+    step_kernel::<f32, P, A, _>(m, dt, a, PortableCopy)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -554,7 +474,7 @@ mod x86 {
         /// # Safety
         /// The CPU must support AVX2 and FMA.
         #[target_feature(enable = "avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx2_f64<const S: u8, const P: bool, A: CAccess>(
+        pub(in crate::capi::batch) unsafe fn avx2_f64<const P: bool, A: CAccess>(
             m: &Model,
             dt: f64,
             a: &mut A,
@@ -569,7 +489,7 @@ mod x86 {
             // over 4 lanes. (On the Zen 4 host, with the earlier kernel, the two
             // measured the same: 55.3 against 55.2 ns.)
             // SAFETY: the caller guarantees AVX2.
-            step_kernel::<F64x4x2, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
+            step_kernel::<F64x4x2, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
         }
     }
 
@@ -580,13 +500,13 @@ mod x86 {
         /// # Safety
         /// The CPU must support AVX2 and FMA.
         #[target_feature(enable = "avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx2_f32<const S: u8, const P: bool, A: CAccess>(
+        pub(in crate::capi::batch) unsafe fn avx2_f32<const P: bool, A: CAccess>(
             m: &Model,
             dt: f64,
             a: &mut A,
         ) -> BatchReport {
             // SAFETY: the caller guarantees AVX2.
-            step_kernel::<F32x8N, S, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
+            step_kernel::<F32x8N, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
         }
     }
 
@@ -597,13 +517,13 @@ mod x86 {
         /// # Safety
         /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
         #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx512_f64<const S: u8, const P: bool, A: CAccess>(
+        pub(in crate::capi::batch) unsafe fn avx512_f64<const P: bool, A: CAccess>(
             m: &Model,
             dt: f64,
             a: &mut A,
         ) -> BatchReport {
             // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-            step_kernel::<F64x8, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
+            step_kernel::<F64x8, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
         }
     }
 
@@ -614,7 +534,7 @@ mod x86 {
         /// # Safety
         /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
         #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx512_f32<const S: u8, const P: bool, A: CAccess>(
+        pub(in crate::capi::batch) unsafe fn avx512_f32<const P: bool, A: CAccess>(
             m: &Model,
             dt: f64,
             a: &mut A,
@@ -625,7 +545,7 @@ mod x86 {
             // docs/performance.md (A, alternating runs of scripts/ab_kernels.sh). Two such steps
             // fill a block of 32 contacts.
             // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-            step_kernel::<F32x16, S, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
+            step_kernel::<F32x16, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
         }
     }
 
@@ -676,40 +596,25 @@ mod x86 {
     }
 }
 
-/// Calls `$f::<scene code, $p, A>$args` with the scene as a compile-time constant: one of the
-/// listed scenes, else the generic kernel (so that only the listed scenes' kernels are
-/// compiled). A build with `--cfg rollslide_generic_batch_kernels` compiles the generic kernels
-/// only (see [`batch_scene`]).
-macro_rules! by_scene {
-    ($scene:expr, [$($s:ident),*], $f:ident, $p:literal, $args:tt) => {
-        match $scene {
-            $(#[cfg(not(any(test, rollslide_generic_batch_kernels)))]
-            Scene::$s => $f::<{ Scene::$s as u8 }, $p, _> $args,)*
-            #[allow(unreachable_patterns)]
-            _ => $f::<0, $p, _> $args,
-        }
-    };
-}
-
-/// Runs the kernel of `$config` (precision and SIMD level, checked available by the caller)
-/// for `$scene`, prefetching or not (`$p`), compiling the listed scenes' kernels.
+/// Runs the kernel of `$config` (precision and SIMD level, checked available by the caller),
+/// prefetching or not (`$p`).
 macro_rules! by_level {
-    ($config:expr, $scene:expr, $scenes:tt, $p:literal, $args:tt) => {
+    ($config:expr, $p:literal, $args:tt) => {
         match ($config.simd, $config.f32) {
-            (Simd::Scalar, false) => by_scene!($scene, $scenes, scalar_f64, $p, $args),
-            (Simd::Scalar, true) => by_scene!($scene, $scenes, scalar_f32, $p, $args),
+            (Simd::Scalar, false) => scalar_f64::<$p, _> $args,
+            (Simd::Scalar, true) => scalar_f32::<$p, _> $args,
             #[cfg(target_arch = "x86_64")]
             // SAFETY: the caller checked `config.simd.available()`: the CPU has AVX2 and FMA.
-            (Simd::Avx2, false) => unsafe { by_scene!($scene, $scenes, avx2_f64, $p, $args) },
+            (Simd::Avx2, false) => unsafe { avx2_f64::<$p, _> $args },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: as above (AVX2 and FMA present).
-            (Simd::Avx2, true) => unsafe { by_scene!($scene, $scenes, avx2_f32, $p, $args) },
+            (Simd::Avx2, true) => unsafe { avx2_f32::<$p, _> $args },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-            (Simd::Avx512, false) => unsafe { by_scene!($scene, $scenes, avx512_f64, $p, $args) },
+            (Simd::Avx512, false) => unsafe { avx512_f64::<$p, _> $args },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: as above.
-            (Simd::Avx512, true) => unsafe { by_scene!($scene, $scenes, avx512_f32, $p, $args) },
+            (Simd::Avx512, true) => unsafe { avx512_f32::<$p, _> $args },
             #[cfg(not(target_arch = "x86_64"))]
             _ => unreachable!("only the scalar level is available off x86-64"),
         }
@@ -718,136 +623,47 @@ macro_rules! by_level {
 
 /// [`by_level`] with the kernels that prefetch when `$access` is large enough to need it
 /// ([`Gather::prefetching`]), else the ones that do not: each its own function, so that the
-/// choice costs nothing per contact and leaves the prefetching kernels' code as it was.
+/// choice costs nothing per contact.
 macro_rules! by_kernel {
-    ($config:expr, $scene:expr, $scenes:tt, $access:expr, $args:tt) => {
+    ($config:expr, $access:expr, $args:tt) => {
         if Gather::prefetching(&*$access) {
-            by_level!($config, $scene, $scenes, true, $args)
+            by_level!($config, true, $args)
         } else {
-            by_level!($config, $scene, $scenes, false, $args)
+            by_level!($config, false, $args)
         }
-    };
-}
-
-/// [`by_kernel`] with every scene of the table ([`with_scenes`]) listed.
-macro_rules! by_kernel_of_every_scene {
-    ([$config:expr, $scene:expr, $access:expr, $args:tt] $({ $(#[$doc:meta])* $s:ident = $($row:tt)* })*) => {
-        by_kernel!($config, $scene, [$($s),*], $access, $args)
-    };
-}
-
-/// [`by_kernel`] with the scenes of the table ([`with_scenes`]) that have a sliding law or not
-/// (`true` or `false`) and whose family's packed history keeps the springs only (`SPRINGS`:
-/// the LAMMPS and LIGGGHTS families) or the previous normal too (`NORMAL`: the exact family):
-/// `[sliding layout; config, scene, access, args]`. Those are the scenes whose models have one
-/// packed-history layout ([`history_layout`]). The rows are taken one at a time (`@keep`),
-/// each kept or skipped, and the kernels of the kept ones run. (`macro_rules!` cannot compare
-/// two captured tokens, so each kept pair of sliding flag and family is a rule of its own.)
-macro_rules! by_kernel_of_scenes_with {
-    ([$($head:tt)*] $($rows:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [$($head)*] [] $($rows)*)
-    };
-    (@keep [$sliding:tt $layout:ident; $config:expr, $scene:expr, $access:expr, $args:tt]
-        [$($kept:ident)*]) => {
-        by_kernel!($config, $scene, [$($kept),*], $access, $args)
-    };
-    (@keep [true SPRINGS; $($call:tt)*] [$($kept:ident)*]
-        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, LAMMPS) }
-        $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [true SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
-    };
-    (@keep [true SPRINGS; $($call:tt)*] [$($kept:ident)*]
-        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, LIGGGHTS) }
-        $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [true SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
-    };
-    (@keep [true NORMAL; $($call:tt)*] [$($kept:ident)*]
-        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (true, $r:tt, $t:ident, EXACT) }
-        $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [true NORMAL; $($call)*] [$($kept)* $s] $($rest)*)
-    };
-    (@keep [false SPRINGS; $($call:tt)*] [$($kept:ident)*]
-        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, LAMMPS) }
-        $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [false SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
-    };
-    (@keep [false SPRINGS; $($call:tt)*] [$($kept:ident)*]
-        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, LIGGGHTS) }
-        $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [false SPRINGS; $($call)*] [$($kept)* $s] $($rest)*)
-    };
-    (@keep [false NORMAL; $($call:tt)*] [$($kept:ident)*]
-        { $(#[$doc:meta])* $s:ident = $code:literal, $name:literal, (false, $r:tt, $t:ident, EXACT) }
-        $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep [false NORMAL; $($call)*] [$($kept)* $s] $($rest)*)
-    };
-    (@keep $head:tt [$($kept:ident)*] { $($row:tt)* } $($rest:tt)*) => {
-        by_kernel_of_scenes_with!(@keep $head [$($kept)*] $($rest)*)
     };
 }
 
 #[cfg(target_arch = "x86_64")]
 use x86::{avx2_f32, avx2_f64, avx512_f32, avx512_f64};
 
-/// The scene whose kernel a batch of `model` runs: its class ([`Scene::classify`]) when
-/// `specialise`, else the generic one.
-///
-/// A build with `--cfg rollslide_generic_batch_kernels` (in `RUSTFLAGS`) runs the generic
-/// kernel for every model, and says so here (and so in `rsl_batch_report.scene` and
-/// `rsl_batch_scene`): it compiles a fraction of the kernels, in a fraction of the time and
-/// memory, for the builds that step no batch or need not specialise it (`.ci/run`: the stress
-/// profile, the fuzz targets, the portable library valgrind reruns a test on). Double
-/// precision results are the same to the bit either way (`tests/batch.rs` checks every kernel
-/// against the per-contact step with tolerance 0). The library's own unit tests (`cfg(test)`)
-/// are built so too: none of them needs a scene kernel (the integration tests, which link the
-/// library as hosts do, run them all), and `cargo test` compiles that harness next to the
-/// library, which two builds of every scene kernel at once did not fit in 23 GB of memory.
-fn batch_scene(model: &Model, specialise: bool) -> Scene {
-    if specialise && !cfg!(any(test, rollslide_generic_batch_kernels)) {
-        Scene::classify(model)
-    } else {
-        Scene::Generic
-    }
-}
-
 /// Steps every contact of `access` with the kernel of `config` (safe: the SIMD level is
-/// re-checked against the CPU). Returns the report and the scene that ran. The model and time
-/// step are validated here; a call-level error processes nothing.
+/// re-checked against the CPU). The model and time step are validated here; a call-level error
+/// processes nothing.
 pub fn run_step<A: CAccess>(
     model: &Model,
     dt: f64,
     access: &mut A,
     config: BatchConfig,
-) -> Result<(BatchReport, Scene), Error> {
+) -> Result<BatchReport, Error> {
     check_batch_model(model)?;
     check_time_step(dt)?;
-    let scene = batch_scene(model, config.specialise);
     if !config.simd.available() {
         return Err(Error::InvalidArgument(
             "SIMD level not supported by this CPU".to_string(),
         ));
     }
-    let report = with_scenes!(
-        by_kernel_of_every_scene,
-        [config, scene, access, (model, dt, access)]
-    );
-    Ok((report, scene))
+    Ok(by_kernel!(config, access, (model, dt, access)))
 }
 
 /// As [`run_step`] for packed histories of `W` doubles from full-layout word `F` ([`Record`]),
-/// which must be the model's [`history_layout`] (checked). Only the scenes whose models have
-/// that layout get a specialised kernel: the LAMMPS and LIGGGHTS scenes with a sliding law for
-/// 7 words from word 0, the objective exact-transport ones for 10; without a sliding law, the
-/// LAMMPS and LIGGGHTS ones for 4 words from word 3, the exact ones for 7; none for the YADE
-/// preset's layouts (13 words, or 10 from word 3), which run the generic kernel.
+/// which must be the model's [`history_layout`] (checked).
 pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
     model: &Model,
     dt: f64,
     access: &mut ParticleSteps<'_, rsl_sphere, &mut [Record<W, F>], V>,
     config: BatchConfig,
-) -> Result<(BatchReport, Scene), Error> {
-    check_batch_model(model)?;
-    check_time_step(dt)?;
+) -> Result<BatchReport, Error> {
     let layout = history_layout(model);
     if layout != (HistoryLayout { first: F, words: W }) {
         return Err(Error::InvalidArgument(format!(
@@ -855,32 +671,7 @@ pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
             layout.words, layout.first
         )));
     }
-    let scene = batch_scene(model, config.specialise);
-    if !config.simd.available() {
-        return Err(Error::InvalidArgument(
-            "SIMD level not supported by this CPU".to_string(),
-        ));
-    }
-    let report = match (F, F + W) {
-        (0, SPRINGS_ONLY) => with_scenes!(
-            by_kernel_of_scenes_with,
-            [true SPRINGS; config, scene, access, (model, dt, access)]
-        ),
-        (0, WITH_NORMAL) => with_scenes!(
-            by_kernel_of_scenes_with,
-            [true NORMAL; config, scene, access, (model, dt, access)]
-        ),
-        (NO_SLIDING, SPRINGS_ONLY) => with_scenes!(
-            by_kernel_of_scenes_with,
-            [false SPRINGS; config, scene, access, (model, dt, access)]
-        ),
-        (NO_SLIDING, WITH_NORMAL) => with_scenes!(
-            by_kernel_of_scenes_with,
-            [false NORMAL; config, scene, access, (model, dt, access)]
-        ),
-        _ => by_kernel!(config, scene, [], access, (model, dt, access)),
-    };
-    Ok((report, scene))
+    run_step(model, dt, access, config)
 }
 
 /// Decomposes every contact of `access` with the kernel of `config` (safe, as [`run_step`]).
@@ -930,7 +721,11 @@ fn decompose_at<const P: bool, A: DecomposeAccess>(
 ///
 /// # Safety
 /// `p` must be NULL or point to `n` initialised `T` not written during the call.
-unsafe fn slice_in<'a, T>(p: *const T, n: usize, name: &'static str) -> Result<&'a [T], FfiError> {
+pub(crate) unsafe fn slice_in<'a, T>(
+    p: *const T,
+    n: usize,
+    name: &'static str,
+) -> Result<&'a [T], FfiError> {
     if n == 0 {
         return Ok(&[]);
     }
@@ -986,11 +781,11 @@ fn refuse(report: Option<&mut rsl_batch_report>, e: FfiError) -> Result<(), FfiE
 /// Writes the report (if requested) and maps a partial failure to the first failing status.
 fn finish(
     report: Option<&mut rsl_batch_report>,
-    result: Result<(BatchReport, u32, Simd), Error>,
+    result: Result<(BatchReport, Simd), Error>,
 ) -> Result<(), FfiError> {
     match result {
         Err(e) => refuse(report, FfiError::Core(e)),
-        Ok((b, scene, simd)) => {
+        Ok((b, simd)) => {
             let first_status = b
                 .first_error
                 .as_ref()
@@ -1002,7 +797,6 @@ fn finish(
                     first_failed: b.first_failed.map_or(RSL_BATCH_NONE, |i| i as u64),
                     first_status,
                     simd: simd.code(),
-                    scene,
                     reserved: 0,
                 };
             }
@@ -1065,6 +859,7 @@ unsafe fn stiffness_in<'a>(
 /// # Safety
 /// `params` NULL or readable; its non-NULL arrays hold `n` values.
 unsafe fn sliding_in<'a>(
+    m: &'a rsl_model,
     params: *const rsl_batch_contact_params,
     n: usize,
 ) -> Result<SlidingOverrides<'a>, FfiError> {
@@ -1080,9 +875,19 @@ unsafe fn sliding_in<'a>(
             unsafe { slice_in(a, n, name) }.map(Some)
         }
     };
+    let materials = if p.material.is_null() {
+        None
+    } else {
+        Some(Materials {
+            table: &m.materials,
+            // SAFETY: forwarded contract: a non-NULL array holds `n` values.
+            index: unsafe { slice_in(p.material, n, "params.material")? },
+        })
+    };
     Ok(SlidingOverrides {
         stiffness: optional(p.sliding_stiffness, "params.sliding_stiffness")?,
         damping: optional(p.sliding_damping, "params.sliding_damping")?,
+        materials,
     })
 }
 
@@ -1310,7 +1115,7 @@ unsafe fn particle_call<St: ContactStates<Slot = rsl_contact_state>>(
             };
             let states = states()?;
             // SAFETY: as above.
-            let sliding = unsafe { sliding_in(params, n_contacts)? };
+            let sliding = unsafe { sliding_in(a.model, params, n_contacts)? };
             Ok((a, states, sliding))
         })();
         match result {
@@ -1336,7 +1141,7 @@ fn step_particles<St: ContactStates<Slot = rsl_contact_state>>(
         states: St,
         sliding: O,
         dt: f64,
-    ) -> Result<(BatchReport, Scene), FfiError> {
+    ) -> Result<BatchReport, FfiError> {
         let mut access = ParticleSteps {
             particles: a.particles,
             pairs: a.pairs,
@@ -1351,14 +1156,17 @@ fn step_particles<St: ContactStates<Slot = rsl_contact_state>>(
         Ok(run_step(&a.model.model, dt, &mut access, a.config)?)
     }
     let simd = a.config.simd;
-    let stepped = if sliding.stiffness.is_none() && sliding.damping.is_none() {
+    let stepped = if sliding.stiffness.is_none()
+        && sliding.damping.is_none()
+        && sliding.materials.is_none()
+    {
         run(a, states, ModelSliding, dt)
     } else {
         run(a, states, sliding, dt)
     };
     match stepped {
         Err(e) => refuse(report, e),
-        Ok((b, scene)) => finish(report, Ok((b, scene as u32, simd))),
+        Ok(b) => finish(report, Ok((b, simd))),
     }
 }
 
@@ -1582,7 +1390,7 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                     force: &mut [rsl_vec3],
                     torque: &mut [rsl_vec3],
                     config: BatchConfig,
-                ) -> Result<(BatchReport, Scene), Error> {
+                ) -> Result<BatchReport, Error> {
                     let (records, rest) = history.as_chunks_mut::<W>();
                     debug_assert!(rest.is_empty(), "whole records");
                     // SAFETY: `Record<W, F>` is `repr(transparent)` over `[f64; W]`.
@@ -1626,17 +1434,26 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                     }
                     _ => run::<{ WITH_OFFAXIS - N }, N>(model, dt, p, q, f, k, h, fo, t, config),
                 };
-                finish(report, result.map(|(b, s)| (b, s as u32, config.simd)))
+                finish(report, result.map(|b| (b, config.simd)))
             }
         }
     })
 }
 
-/// Per-contact coefficients of `rsl_batch_step_params` and `rsl_batch_step_contacts_params`, used
-/// instead of the model's (as `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS`
-/// and `RSL_INPUT_SLIDING_DAMPING`): for laws whose coefficients depend on the contact, such as the
-/// contact-area-dependent `k_t` and `gamma_t` of Hertz-Mindlin. Each pointer is NULL (the
+/// Per-contact coefficients of `rsl_batch_step_params`, `rsl_batch_step_indexed` and
+/// `rsl_batch_step_contacts_params`, used instead of the model's: each pointer is NULL (the
 /// model's value for every contact) or an array of one value per contact.
+///
+/// - `material`: each contact's material pair, an index into the model's table of coefficient
+///   sets (`rsl_model_set_materials`), as LAMMPS' `pair_coeff` per type pair: the contact steps
+///   as `rsl_contact_step` does with that set's model, bit for bit in double precision. A
+///   contact whose index is not below the table's size (any index, for a model without a
+///   table) is skipped with `RSL_ERR_INVALID_ARGUMENT`, as one with a particle index out of
+///   range.
+/// - `sliding_stiffness`, `sliding_damping`: `k_t` and `gamma_t` for laws whose coefficients
+///   depend on the contact, such as the contact-area-dependent ones of Hertz-Mindlin (as
+///   `rsl_contact_step` uses them with `RSL_INPUT_SLIDING_STIFFNESS` and
+///   `RSL_INPUT_SLIDING_DAMPING`); they win over the contact's material set for those two.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct rsl_batch_contact_params {
@@ -1644,6 +1461,8 @@ pub struct rsl_batch_contact_params {
     pub sliding_stiffness: *const f64,
     /// Sliding damping `gamma_t` per contact (force/velocity, finite, >= 0), or NULL.
     pub sliding_damping: *const f64,
+    /// Material pair per contact (an index into the model's table), or NULL.
+    pub material: *const u32,
 }
 
 /// Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
@@ -1730,7 +1549,7 @@ pub unsafe extern "C" fn rsl_batch_step_contacts_params(
             // SAFETY: as above.
             let k_n = unsafe { stiffness_in(m, normal_stiffness, n)? };
             // SAFETY: as above.
-            let sliding = unsafe { sliding_in(params, n)? };
+            let sliding = unsafe { sliding_in(m, params, n)? };
             let config = BatchConfig::from_options(opts)?;
             let access = ContactSteps {
                 body1,
@@ -1748,8 +1567,7 @@ pub unsafe extern "C" fn rsl_batch_step_contacts_params(
             Err(e) => refuse(report, e),
             Ok((m, mut access, config)) => finish(
                 report,
-                run_step(&m.model, dt, &mut access, config)
-                    .map(|(b, s)| (b, s as u32, config.simd)),
+                run_step(&m.model, dt, &mut access, config).map(|b| (b, config.simd)),
             ),
         }
     })
@@ -1857,7 +1675,7 @@ fn decompose_finish<A: DecomposeAccess>(
         Err(e) => refuse(report, e),
         Ok((mut access, geometry, parts, config)) => finish(
             report,
-            run_decompose(geometry, parts, &mut access, config).map(|b| (b, 0, config.simd)),
+            run_decompose(geometry, parts, &mut access, config).map(|b| (b, config.simd)),
         ),
     }
 }
@@ -1872,22 +1690,6 @@ pub extern "C" fn rsl_batch_simd_support() -> u32 {
         .fold(0, |bits, s| bits | 1 << s.code())
 }
 
-/// The scene kernel a model would run in a batch, one of `RSL_SCENE_*` (`RSL_SCENE_GENERIC`
-/// for a model no specialised kernel matches; `rsl_batch_report.scene` gives the one that
-/// ran). Writes `*scene` on success.
-///
-/// # Safety
-/// `model` must be a live model; `scene` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn rsl_batch_scene(model: *const rsl_model, scene: *mut u32) -> i32 {
-    guard(|| {
-        // SAFETY: forwarded contract; helpers check NULL and alignment.
-        let (m, out) = unsafe { (live_model(model)?, output(scene, "scene")?) };
-        *out = batch_scene(&m.model, true) as u32;
-        Ok(())
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1898,54 +1700,6 @@ mod tests {
     };
     use crate::capi::status::{rsl_last_error_message, RSL_ERR_NON_FINITE, RSL_OK};
     use std::ffi::CStr;
-
-    #[test]
-    fn scene_constants_are_the_scene_codes() {
-        let constants = [
-            (RSL_SCENE_GENERIC, Scene::Generic),
-            (RSL_SCENE_FULL_EXACT, Scene::FullExact),
-            (RSL_SCENE_FULL_LAMMPS, Scene::FullLammps),
-            (RSL_SCENE_SLIDING_EXACT, Scene::SlidingExact),
-            (RSL_SCENE_SLIDING_ROLLING_EXACT, Scene::SlidingRollingExact),
-            (RSL_SCENE_SLIDING_LAMMPS, Scene::SlidingLammps),
-            (
-                RSL_SCENE_ROLLING_TWISTING_LAMMPS,
-                Scene::RollingTwistingLammps,
-            ),
-            (
-                RSL_SCENE_ROLLING_TWISTING_EXACT,
-                Scene::RollingTwistingExact,
-            ),
-            (
-                RSL_SCENE_SLIDING_ROLLING_LAMMPS,
-                Scene::SlidingRollingLammps,
-            ),
-            (RSL_SCENE_FULL_LAMMPS_MARSHALL, Scene::FullLammpsMarshall),
-            (RSL_SCENE_FULL_EXACT_MARSHALL, Scene::FullExactMarshall),
-            (RSL_SCENE_ROLLING_EXACT, Scene::RollingExact),
-            (RSL_SCENE_ROLLING_LAMMPS, Scene::RollingLammps),
-            (RSL_SCENE_TWISTING_LAMMPS, Scene::TwistingLammps),
-            (
-                RSL_SCENE_SLIDING_TWISTING_LAMMPS,
-                Scene::SlidingTwistingLammps,
-            ),
-            (RSL_SCENE_TWISTING_EXACT, Scene::TwistingExact),
-            (
-                RSL_SCENE_SLIDING_TWISTING_EXACT,
-                Scene::SlidingTwistingExact,
-            ),
-            (RSL_SCENE_SLIDING_CDT_LIGGGHTS, Scene::SlidingCdtLiggghts),
-            (
-                RSL_SCENE_SLIDING_EPSD2_LIGGGHTS,
-                Scene::SlidingEpsd2Liggghts,
-            ),
-        ];
-        assert_eq!(constants.len(), Scene::ALL.len());
-        for (code, scene) in constants {
-            assert_eq!(code, scene as u32, "{scene:?}");
-            assert_eq!(Scene::from_code(code as u8), scene);
-        }
-    }
 
     fn vec3(x: f64, y: f64, z: f64) -> rsl_vec3 {
         rsl_vec3 { x, y, z }
@@ -1976,7 +1730,7 @@ mod tests {
         m
     }
 
-    /// Every option set this CPU runs: both precisions, every SIMD level, specialised or not.
+    /// Every option set this CPU runs: both precisions, every SIMD level.
     fn all_options() -> Vec<rsl_batch_options> {
         let mut out = Vec::new();
         for simd in [RSL_SIMD_SCALAR, RSL_SIMD_AVX2, RSL_SIMD_AVX512] {
@@ -1984,14 +1738,12 @@ mod tests {
                 continue;
             }
             for precision in [RSL_PRECISION_F64, RSL_PRECISION_F32] {
-                for flags in [0, RSL_BATCH_GENERIC] {
-                    out.push(rsl_batch_options {
-                        precision,
-                        simd,
-                        flags,
-                        reserved: 0,
-                    });
-                }
+                out.push(rsl_batch_options {
+                    precision,
+                    simd,
+                    flags: 0,
+                    reserved: 0,
+                });
             }
         }
         out

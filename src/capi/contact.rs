@@ -10,12 +10,10 @@ use super::model::live_model;
 use super::status::FfiError;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{checked_pointer, guard, guard_status, input, output};
-use crate::batch::scene::{fold, with_scenes};
-use crate::batch::Scene;
 use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
 use crate::laws::checked::{contact_step_pair, contact_step_wall};
-use crate::laws::fast_path::{scene_outputs_finite, step_pair_if_valid};
+use crate::laws::fast_path::{step_outputs_finite, step_pair_if_valid};
 use crate::laws::model::Model;
 use crate::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
 use crate::laws::step::{ContactState, StepInput, StepOutput};
@@ -272,6 +270,7 @@ fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
         inertia2: i.inertia2,
         sliding_stiffness: flag(RSL_INPUT_SLIDING_STIFFNESS).then_some(i.sliding_stiffness),
         sliding_damping: flag(RSL_INPUT_SLIDING_DAMPING).then_some(i.sliding_damping),
+        sliding_friction: None,
         limit_force: flag(RSL_INPUT_LIMIT_FORCE).then_some(i.limit_force),
         rolling_stiffness: flag(RSL_INPUT_ROLLING_STIFFNESS).then_some(i.rolling_stiffness),
         rolling_damping: flag(RSL_INPUT_ROLLING_DAMPING).then_some(i.rolling_damping),
@@ -551,7 +550,7 @@ impl LoadsSink for SphereAccumulators {
     }
 }
 
-/// `rsl_contact_step`'s signature: the handle's step for its scene on this CPU, which the entry
+/// `rsl_contact_step`'s signature: the handle's step on this CPU, which the entry
 /// calls in tail position with its own arguments once it has checked them (every pointer
 /// non-NULL and 8-aligned, the handle live). The same signature lets the compiler make that
 /// call a jump: no second frame, no copy of the arguments.
@@ -578,8 +577,8 @@ pub(crate) type AccumulateStep = unsafe extern "C" fn(
     *mut rsl_vec3,
 ) -> i32;
 
-/// A scene's per-contact steps on this CPU, one per C entry, kept in the model handle. Each
-/// runs the scene's fast path for a plain input and the checked step (which reports) for
+/// The per-contact steps on this CPU, one per C entry, kept in the model handle. Each
+/// runs the fast path for a plain input and the checked step (which reports) for
 /// anything else and anything the fast path refuses, behind the panic boundary.
 #[derive(Clone, Copy)]
 pub(crate) struct PairSteps {
@@ -589,62 +588,32 @@ pub(crate) struct PairSteps {
     pub(crate) accumulate: AccumulateStep,
 }
 
-/// The per-contact steps of `scene` (the model handle keeps them), built for AVX2 when this CPU
-/// has it (Rust never contracts to FMA, so every build gives the same bits). Measured (session
-/// 2), the heap demo (generic scene: Marshall twisting) 9.3-9.4 s with the AVX2 build against
-/// 10.3-11.3 s with the SSE2 one. An AVX-512 build (32 vector registers: 25 stack stores in
-/// the LAMMPS scene instead of 62) measured no faster (session 3: 1.18x against 1.16x the C
-/// baseline at 1M contacts, medians of 7) and was dropped.
+/// The per-contact steps (the model handle keeps them), built for AVX2 when this CPU has it
+/// (Rust never contracts to FMA, so every build gives the same bits).
 ///
 /// A build with `--cfg rollslide_portable_pair_steps` (in `RUSTFLAGS`) always takes the
 /// portable steps: `scripts/sanitizers.sh` uses one under valgrind 3.19, whose decoder rejects
 /// an AVX encoding LLVM emits in some AVX2 steps (see that script).
-pub(crate) fn pair_steps_for(scene: Scene) -> PairSteps {
+pub(crate) fn pair_steps() -> PairSteps {
     let avx2 = !cfg!(rollslide_portable_pair_steps) && Simd::Avx2.available();
-    scene_steps(avx2)[scene as usize]
+    pair_steps_built(avx2)
 }
 
-/// `[f::<0>, f::<code>...]`: a step function for each scene code, in code order (the rows of
-/// [`with_scenes`]).
-macro_rules! per_scene_array {
-    ([$f:ident] $({ $(#[$doc:meta])* $scene:ident = $code:literal, $($row:tt)* })*) => {
-        [$f::<0> $(, $f::<$code>)*]
-    };
-}
-
-/// [`per_scene_array`] over every scene.
-macro_rules! per_scene {
-    ($f:ident) => {
-        with_scenes!(per_scene_array, [$f])
-    };
-}
-
-/// The steps of each scene (indexed by `Scene as usize`, the scene's code), the AVX2 builds or
-/// the portable ones. Only a CPU with AVX2 and FMA may call the AVX2 builds.
+/// The AVX2 builds of the steps or the portable ones. Only a CPU with AVX2 and FMA may call the
+/// AVX2 builds.
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
-fn scene_steps(avx2: bool) -> [PairSteps; Scene::ALL.len()] {
+fn pair_steps_built(avx2: bool) -> PairSteps {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
-        let (out, accumulate): (
-            [OutStep; Scene::ALL.len()],
-            [AccumulateStep; Scene::ALL.len()],
-        ) = (per_scene!(out_step_avx2), per_scene!(accumulate_step_avx2));
-        return std::array::from_fn(|i| PairSteps {
-            out: out[i],
-            accumulate: accumulate[i],
-        });
+        return PairSteps {
+            out: out_step_avx2,
+            accumulate: accumulate_step_avx2,
+        };
     }
-    let (out, accumulate): (
-        [OutStep; Scene::ALL.len()],
-        [AccumulateStep; Scene::ALL.len()],
-    ) = (
-        per_scene!(out_step_portable),
-        per_scene!(accumulate_step_portable),
-    );
-    std::array::from_fn(|i| PairSteps {
-        out: out[i],
-        accumulate: accumulate[i],
-    })
+    PairSteps {
+        out: out_step_portable,
+        accumulate: accumulate_step_portable,
+    }
 }
 
 /// [`pair_step_with`] on the entry's checked pointers, behind the panic boundary (the step
@@ -656,7 +625,7 @@ fn scene_steps(avx2: bool) -> [PairSteps; Scene::ALL.len()] {
 /// valid for its type during the call, `state` not overlapping the inputs; `model` a live
 /// handle, not modified during the call; `test` usable on this CPU.
 #[inline(always)]
-unsafe fn entered_step<const S: u8, F: FiniteTest, K: PairSink>(
+unsafe fn entered_step<F: FiniteTest, K: PairSink>(
     test: F,
     model: *const super::model::rsl_model,
     body1: *const rsl_sphere,
@@ -667,16 +636,11 @@ unsafe fn entered_step<const S: u8, F: FiniteTest, K: PairSink>(
 ) -> i32 {
     // SAFETY: this function's contract.
     let (m, b1, b2, inp, st) = unsafe { (&*model, &*body1, &*body2, &*contact, &mut *state) };
-    debug_assert_eq!(
-        m.scene,
-        Scene::classify(&m.model),
-        "stale scene in the handle"
-    );
-    guard_status(|| pair_step_with::<S, F, K>(test, m, b1, b2, inp, st, sink))
+    guard_status(|| pair_step_with::<F, K>(test, m, b1, b2, inp, st, sink))
 }
 
-/// The AVX2 and portable builds of one entry's step for scene `S` (`$avx2::<S>`,
-/// `$portable::<S>`): the entry's parameters (`$param`), the sink made from them (`$sink`),
+/// The AVX2 and portable builds of one entry's step (`$avx2`, `$portable`): the entry's
+/// parameters (`$param`), the sink made from them (`$sink`),
 /// [`entered_step`] with the AVX2 or the portable finiteness test.
 macro_rules! entry_steps {
     (
@@ -696,7 +660,7 @@ macro_rules! entry_steps {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx2,fma")]
         #[allow(clippy::too_many_arguments)]
-        unsafe extern "C" fn $avx2<const S: u8>(
+        unsafe extern "C" fn $avx2(
             model: *const super::model::rsl_model,
             body1: *const rsl_sphere,
             body2: *const rsl_sphere,
@@ -708,7 +672,7 @@ macro_rules! entry_steps {
             // valid and exclusive, as the sink requires).
             unsafe {
                 let (test, sink) = (Avx2::assume(), $sink);
-                entered_step::<S, _, _>(test, model, body1, body2, contact, state, sink)
+                entered_step::<_, _>(test, model, body1, body2, contact, state, sink)
             }
         }
 
@@ -719,7 +683,7 @@ macro_rules! entry_steps {
         /// # Safety
         /// As the AVX2 build, on any CPU.
         #[allow(clippy::too_many_arguments)]
-        unsafe extern "C" fn $portable<const S: u8>(
+        unsafe extern "C" fn $portable(
             model: *const super::model::rsl_model,
             body1: *const rsl_sphere,
             body2: *const rsl_sphere,
@@ -731,30 +695,30 @@ macro_rules! entry_steps {
             // the sink requires).
             unsafe {
                 let sink = $sink;
-                entered_step::<S, _, _>(Portable, model, body1, body2, contact, state, sink)
+                entered_step::<_, _>(Portable, model, body1, body2, contact, state, sink)
             }
         }
     };
 }
 
 entry_steps! {
-    /// Scene `S`'s `rsl_contact_step`, entered from it (see [`OutStep`]).
+    /// `rsl_contact_step`'s step, entered from it (see [`OutStep`]).
     out_step_avx2, out_step_portable,
     (out: *mut rsl_contact_loads),
     LoadsOut::new(out)
 }
 
 entry_steps! {
-    /// Scene `S`'s `rsl_contact_step_accumulate`, entered from it (see [`AccumulateStep`]).
+    /// `rsl_contact_step_accumulate`'s step, entered from it (see [`AccumulateStep`]).
     accumulate_step_avx2, accumulate_step_portable,
     (force1: *mut rsl_vec3, torque1: *mut rsl_vec3, force2: *mut rsl_vec3, torque2: *mut rsl_vec3),
     Accumulators::new(force1, torque1, force2, torque2)
 }
 
-/// The step of scene code `S` with the finiteness test `test`: [`fast_pair_step`] for a plain
+/// The step with the finiteness test `test`: [`fast_pair_step`] for a plain
 /// input (`flags == 0`), [`PairSink::step_guarded`] for anything else or anything it refuses.
 #[inline(always)]
-fn pair_step_with<const S: u8, F: FiniteTest, K: PairSink>(
+fn pair_step_with<F: FiniteTest, K: PairSink>(
     test: F,
     m: &super::model::rsl_model,
     body1: &rsl_sphere,
@@ -764,8 +728,7 @@ fn pair_step_with<const S: u8, F: FiniteTest, K: PairSink>(
     sink: K,
 ) -> i32 {
     sink.expect();
-    if input.flags == 0
-        && fast_pair_step::<S, F, K>(test, &m.model, body1, body2, input, state, sink)
+    if input.flags == 0 && fast_pair_step::<F, K>(test, &m.model, body1, body2, input, state, sink)
     {
         return super::status::RSL_OK;
     }
@@ -887,11 +850,11 @@ fn guarded_checked_step<K: LoadsSink>(
     })
 }
 
-/// The fast path for scene code `S` ([`step_pair_if_valid`]) on a plain input (`flags == 0`),
+/// The fast path ([`step_pair_if_valid`]) on a plain input (`flags == 0`),
 /// with `test` for the finiteness of the inputs and of the results: on success writes `*state`,
 /// delivers the loads to `sink` and returns true; otherwise writes nothing.
 #[inline(always)]
-fn fast_pair_step<const S: u8, F: FiniteTest, K: LoadsSink>(
+fn fast_pair_step<F: FiniteTest, K: LoadsSink>(
     test: F,
     model: &Model,
     body1: &rsl_sphere,
@@ -915,22 +878,16 @@ fn fast_pair_step<const S: u8, F: FiniteTest, K: LoadsSink>(
         Sphere::from(body2),
         ContactState::from(&*state),
     );
-    let Some((o, next)) = step_pair_if_valid::<S>(model, &b1, &b2, &step, &s, finite) else {
+    let Some((o, next)) = step_pair_if_valid(model, &b1, &b2, &step, &s, finite) else {
         return false;
     };
-    // A specialised scene tests the few results it must, in registers; the generic one, whose
-    // laws are decided at run time, tests every result in the C structs (`test`).
-    let generic = Scene::from_code(S) == Scene::Generic;
-    if !generic && !scene_outputs_finite::<S>(model, &o, &next) {
+    // The few results that must be tested, in registers (see `step_outputs_finite`).
+    if !step_outputs_finite(model, &o, &next) {
         return false;
     }
     let loads = to_c(&o);
     let mut new_state = *state;
     store(&mut new_state, &next, loads.slip_flags);
-    let energy = fold(Scene::from_code(S), model).track_energy;
-    if generic && !test.outputs(&loads, &new_state, energy) {
-        return false;
-    }
     *state = new_state;
     sink.deliver(&loads);
     true
@@ -1408,8 +1365,8 @@ pub(super) mod tests {
         exact.rolling_transport = Transport::Exact;
         let mut energy = exact;
         energy.track_energy = true;
-        // Marshall twisting: generic with first-order transports, a scene with the objective
-        // preset's exact ones and with LAMMPS'.
+        // Marshall twisting with first-order transports, with the objective preset's exact
+        // ones and with LAMMPS'.
         let mut exact_marshall = exact;
         exact_marshall.twisting.law = TwistingLaw::Marshall;
         let mut marshall = exact_marshall;
@@ -1419,7 +1376,7 @@ pub(super) mod tests {
         roll_twist.sliding.law = SlidingLaw::None;
         let mut lammps_marshall = full;
         lammps_marshall.twisting.law = TwistingLaw::Marshall;
-        let models = vec![
+        vec![
             full,
             exact,
             energy,
@@ -1427,19 +1384,7 @@ pub(super) mod tests {
             roll_twist,
             lammps_marshall,
             exact_marshall,
-        ];
-        let scenes: Vec<Scene> = models.iter().map(Scene::classify).collect();
-        assert_eq!(scenes[..2], [Scene::FullLammps, Scene::FullExact]);
-        assert_eq!(scenes[2..4], [Scene::Generic, Scene::Generic]);
-        assert_eq!(
-            scenes[4..],
-            [
-                Scene::RollingTwistingLammps,
-                Scene::FullLammpsMarshall,
-                Scene::FullExactMarshall
-            ]
-        );
-        models
+        ]
     }
 
     type Case = (rsl_sphere, rsl_sphere, rsl_contact_input, rsl_contact_state);
@@ -1639,8 +1584,7 @@ pub(super) mod tests {
             levels += 1;
             for model in models() {
                 let mut handle = rsl_model::live(model);
-                let scene = handle.scene as usize;
-                handle.pair_steps = scene_steps(avx2)[scene];
+                handle.pair_steps = pair_steps_built(avx2);
                 for _ in 0..100 {
                     let mut c = case(&mut rng);
                     for _ in 0..3 {

@@ -1,5 +1,5 @@
 //! Finiteness tests of the C structs of a contact step, done where the values are stored: the
-//! per-contact fast path tests its inputs and its results with them (a non-finite value sends
+//! per-contact fast path tests its inputs with them (a non-finite value sends
 //! the step to the checked path, which names it).
 //!
 //! Both tests add the values up: the total is finite only if every value is, so "yes" is always
@@ -7,7 +7,7 @@
 //! checked path then sorts out. [`Portable`] adds them as scalars; [`Avx2`] loads each struct
 //! four doubles at a time (12 loads and adds for the inputs instead of 41 scalar ones).
 
-use super::contact::{rsl_contact_input, rsl_contact_loads, rsl_contact_state};
+use super::contact::{rsl_contact_input, rsl_contact_state};
 use super::types::{rsl_sphere, rsl_vec3};
 use crate::scalar::FiniteSums;
 use std::mem::{offset_of, size_of};
@@ -23,9 +23,6 @@ pub(crate) trait FiniteTest: Copy {
         input: &rsl_contact_input,
         state: &rsl_contact_state,
     ) -> bool;
-
-    /// Every load and state double is finite, and, with `energy`, every energy term.
-    fn outputs(self, out: &rsl_contact_loads, state: &rsl_contact_state, energy: bool) -> bool;
 }
 
 /// [`FiniteTest`] with scalar adds (any CPU).
@@ -78,46 +75,12 @@ impl FiniteTest for Portable {
         ]);
         sums.all_finite()
     }
-
-    #[inline(always)]
-    fn outputs(self, o: &rsl_contact_loads, state: &rsl_contact_state, energy: bool) -> bool {
-        let mut sums = FiniteSums::default();
-        for v in [
-            &o.force1,
-            &o.torque1,
-            &o.torque2,
-            &o.sliding_force,
-            &o.rolling_moment,
-            &o.twisting_torque,
-        ] {
-            add_vec(&mut sums, v);
-        }
-        add_state(&mut sums, state);
-        if energy {
-            let e = &o.energy;
-            sums.add([
-                e.elastic_sliding,
-                e.elastic_rolling,
-                e.elastic_twisting,
-                e.dashpot_sliding,
-                e.dashpot_rolling,
-                e.dashpot_twisting,
-                e.slider_sliding,
-                e.slider_rolling,
-                e.slider_twisting,
-                e.transport,
-            ]);
-        }
-        sums.all_finite()
-    }
 }
 
 // The layouts the AVX2 test reads: each struct starts with this many doubles, nothing between.
 const SPHERE_DOUBLES: usize = 10;
 const STATE_DOUBLES: usize = 13;
 const INPUT_DOUBLES: usize = 8;
-const LOADS_DOUBLES: usize = 18;
-const LOADS_AND_ENERGY_DOUBLES: usize = 28;
 const _: () = {
     assert!(size_of::<rsl_vec3>() == 3 * 8);
     assert!(size_of::<rsl_sphere>() == SPHERE_DOUBLES * 8);
@@ -125,8 +88,6 @@ const _: () = {
     assert!(offset_of!(rsl_contact_state, previous_normal) == (STATE_DOUBLES - 3) * 8);
     assert!(offset_of!(rsl_contact_state, twisting_angle) == 6 * 8);
     assert!(offset_of!(rsl_contact_input, inertia2) == (INPUT_DOUBLES - 1) * 8);
-    assert!(offset_of!(rsl_contact_loads, energy) == LOADS_DOUBLES * 8);
-    assert!(offset_of!(rsl_contact_loads, slip_flags) == LOADS_AND_ENERGY_DOUBLES * 8);
 };
 
 /// [`FiniteTest`] with AVX2 loads. Only [`Avx2::assume`] makes one.
@@ -214,20 +175,6 @@ impl FiniteTest for Avx2 {
                 avx2::sum::<INPUT_DOUBLES>(doubles(input)),
             );
             avx2::all_finite(avx2::add(spheres, rest))
-        }
-    }
-
-    #[inline(always)]
-    fn outputs(self, out: &rsl_contact_loads, state: &rsl_contact_state, energy: bool) -> bool {
-        // SAFETY: as in `inputs`.
-        unsafe {
-            let loads = if energy {
-                avx2::sum::<LOADS_AND_ENERGY_DOUBLES>(doubles(out))
-            } else {
-                avx2::sum::<LOADS_DOUBLES>(doubles(out))
-            };
-            let state = avx2::sum::<STATE_DOUBLES>(doubles(state));
-            avx2::all_finite(avx2::add(loads, state))
         }
     }
 }

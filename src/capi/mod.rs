@@ -13,6 +13,8 @@ pub mod history;
 pub mod indexed;
 #[cfg(target_arch = "x86_64")]
 mod lanes_x86;
+#[cfg(test)]
+mod materials_tests;
 pub mod model;
 pub mod status;
 #[cfg(target_arch = "x86_64")]

@@ -4,10 +4,10 @@
 
 use super::status::FfiError;
 use super::{guard, input, output};
-use crate::batch::scene::Scene;
-use crate::capi::contact::{pair_steps_for, PairSteps};
+use crate::capi::contact::{pair_steps, PairSteps};
 use crate::error::Error;
 use crate::geometry::GeometryOptions;
+use crate::laws::materials::{same_laws, Coefficients};
 use crate::laws::model::{
     DampingMode, Model, Preset, RollingDamping, RollingForm, RollingLaw, RollingParams,
     RollingStiffness, SlidingLaw, SlidingParams, Transport, TwistingLaw, TwistingParams,
@@ -92,28 +92,27 @@ const FREED: u64 = 0x6672_6565_645f_5f5f; // "freed___"
 pub struct rsl_model {
     magic: u64,
     pub(crate) model: Model,
-    /// `Scene::classify(&model)`, kept in step with `model` (the per-contact fast path's
-    /// kernel).
-    pub(crate) scene: Scene,
-    /// `rsl_contact_step` and `rsl_contact_step_accumulate` for `scene` on this CPU (its fast
+    /// The table of material pairs (`rsl_model_set_materials`): coefficient sets of models with
+    /// this model's laws.
+    pub(crate) materials: Vec<Coefficients>,
+    /// `rsl_contact_step` and `rsl_contact_step_accumulate` on this CPU (its fast
     /// path, the checked step on refusal), chosen once here rather than per call.
     pub(crate) pair_steps: PairSteps,
 }
 
 impl rsl_model {
-    /// A live handle of `model` (already validated), with its scene and that scene's fast path.
     /// Whether this is a live handle (not freed, not garbage: best effort, as [`live_model`]).
     pub(crate) fn is_live(&self) -> bool {
         self.magic == LIVE
     }
 
+    /// A live handle of `model` (already validated), with the per-contact steps of this CPU.
     pub(crate) fn live(model: Model) -> Self {
-        let scene = Scene::classify(&model);
         rsl_model {
             magic: LIVE,
             model,
-            scene,
-            pair_steps: pair_steps_for(scene),
+            materials: Vec::new(),
+            pair_steps: pair_steps(),
         }
     }
 }
@@ -183,7 +182,16 @@ unsafe fn update(
     let mut next = m.model;
     change(&mut next)?;
     next.validate()?;
-    *m = rsl_model::live(next);
+    // The table of material pairs stays while the laws do (a change of values only).
+    let materials = if same_laws(&m.model, &next) {
+        std::mem::take(&mut m.materials)
+    } else {
+        Vec::new()
+    };
+    *m = rsl_model {
+        materials,
+        ..rsl_model::live(next)
+    };
     Ok(())
 }
 
@@ -249,6 +257,76 @@ pub unsafe extern "C" fn rsl_model_free(model: *mut rsl_model) {
             drop(Box::from_raw(model));
         }
     });
+}
+
+/// Gives `model` a table of material pairs for the batch calls: set `i` holds the coefficients
+/// (stiffness, damping and limit coefficient of each law) of `sets[i]`, a model with the same
+/// laws, forms, rules, transports, preset and switches as `model`, only other values (as
+/// LAMMPS' `pair_coeff` per type pair, or YADE's material pairs). A batch call then takes each
+/// contact's index into the table (`rsl_batch_contact_params.material`) and steps it as
+/// `rsl_contact_step` steps it with `sets[i]`. Fill it once per run: the sets are copied, and
+/// `sets` may be freed afterwards. `n = 0` (with `sets` NULL or not) removes the table.
+///
+/// The table stays while the model's setters change values only; a setter that changes a law,
+/// form, rule, transport or switch removes it (its sets would no longer be of the model's
+/// laws). On error (`RSL_ERR_INVALID_ARGUMENT` for a set of other laws or a NULL set,
+/// `RSL_ERR_INVALID_HANDLE` for a freed one) the model and its table are unchanged.
+///
+/// # Safety
+/// `model` a live model no other thread uses during the call; `sets` NULL (only with `n = 0`)
+/// or an array of `n` pointers to live models.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_materials(
+    model: *mut rsl_model,
+    sets: *const *const rsl_model,
+    n: usize,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract; NULL and alignment checked.
+        let m = unsafe { output(model, "model")? };
+        if m.magic != LIVE {
+            return Err(FfiError::InvalidHandle);
+        }
+        let pointers: &[*const rsl_model] = if n == 0 {
+            &[]
+        } else {
+            // SAFETY: forwarded contract: `sets` holds `n` pointers (NULL refused here).
+            unsafe { super::batch::slice_in(sets, n, "sets")? }
+        };
+        let mut table = Vec::with_capacity(n);
+        for (i, &p) in pointers.iter().enumerate() {
+            // SAFETY: forwarded contract: each pointer NULL (refused) or a live model.
+            let set = unsafe { live_model(p) }.map_err(|e| match e {
+                FfiError::NullPointer(_) => {
+                    FfiError::Core(Error::InvalidArgument(format!("sets[{i}] is NULL")))
+                }
+                other => other,
+            })?;
+            if !same_laws(&m.model, &set.model) {
+                return Err(FfiError::Core(Error::InvalidArgument(format!(
+                    "sets[{i}] has other laws, transports, preset or switches than the model \
+                     (a table's sets differ in values only)"
+                ))));
+            }
+            table.push(Coefficients::of(&set.model));
+        }
+        m.materials = table;
+        Ok(())
+    })
+}
+
+/// Writes the number of sets in `model`'s table of material pairs (0 without one) to `*n`.
+///
+/// # Safety
+/// `model` a live model; `n` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_material_count(model: *const rsl_model, n: *mut usize) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract; NULL and alignment checked.
+        let (m, out) = unsafe { (live_model(model)?, output(n, "n")?) };
+        *out = m.materials.len();
+        Ok(())
+    })
 }
 
 /// Sets the branch rule (`RSL_BRANCH_*`) and rolling radius rule (`RSL_ROLLING_RADIUS_*`).
@@ -587,57 +665,6 @@ pub unsafe extern "C" fn rsl_model_set_avoid_granular_ratcheting(
 mod tests {
     use super::*;
     use crate::capi::status::{RSL_ERR_INVALID_PARAMETER, RSL_OK};
-
-    /// The scene the per-contact fast path runs (and that scene's fast path) is the model's
-    /// current one after every setter, and a refused setter changes neither.
-    #[test]
-    fn cached_scene_follows_every_setter() {
-        let mut p: *mut rsl_model = std::ptr::null_mut();
-        // SAFETY: `p` is a valid out pointer; every later call gets the live handle it receives,
-        // freed at the end.
-        unsafe {
-            assert_eq!(rsl_model_new(RSL_PRESET_LAMMPS_2021, &mut p), RSL_OK);
-            let scene = |p: *mut rsl_model| {
-                // The fast path the handle calls is its scene's (same table entry).
-                let expected = pair_steps_for((*p).scene);
-                let steps = (*p).pair_steps;
-                assert_eq!(
-                    (steps.out as usize, steps.accumulate as usize),
-                    (expected.out as usize, expected.accumulate as usize),
-                    "another scene's path"
-                );
-                ((*p).scene, Scene::classify(&(*p).model))
-            };
-            let (cached, now) = scene(p);
-            assert_eq!(cached, now);
-            assert_eq!(
-                rsl_model_set_sliding(p, RSL_SLIDING_LINEAR, 1e5, 1.0, 0.5),
-                RSL_OK
-            );
-            assert_eq!(scene(p), (Scene::SlidingLammps, Scene::SlidingLammps));
-            // All-zero is a valid value of this plain struct of integers and doubles.
-            let mut r: rsl_rolling_params = std::mem::zeroed();
-            assert_eq!(rsl_model_get_rolling(p, &mut r), RSL_OK);
-            r.law = RSL_ROLLING_EPSD;
-            r.stiffness = 1e4;
-            r.friction = 0.1;
-            assert_eq!(rsl_model_set_rolling(p, &r), RSL_OK);
-            assert_eq!(
-                rsl_model_set_twisting(p, RSL_TWISTING_SDS, 10.0, 0.1, 0.05),
-                RSL_OK
-            );
-            assert_eq!(scene(p), (Scene::FullLammps, Scene::FullLammps));
-            assert_eq!(rsl_model_set_energy_tracking(p, 1), RSL_OK);
-            assert_eq!(scene(p), (Scene::Generic, Scene::Generic));
-            assert_eq!(rsl_model_set_energy_tracking(p, 0), RSL_OK);
-            assert_eq!(scene(p).0, Scene::FullLammps);
-            // Refused: the model and its scene stay.
-            let status = rsl_model_set_twisting(p, RSL_TWISTING_SDS, -1.0, 0.1, 0.05);
-            assert_eq!(status, RSL_ERR_INVALID_PARAMETER);
-            assert_eq!(scene(p), (Scene::FullLammps, Scene::FullLammps));
-            rsl_model_free(p);
-        }
-    }
 
     /// `RSL_TWISTING_MARSHALL` ignores the three SDS values, as the header says: even NaN or
     /// negative ones are accepted; `RSL_TWISTING_SDS` still checks them.

@@ -76,6 +76,7 @@ fn check_input<T: RealField + Copy>(
         }
     }
     for (value, what) in [
+        (input.sliding_friction, "sliding_friction"),
         (input.rolling_friction, "rolling_friction"),
         (input.twisting_friction, "twisting_friction"),
         (input.shear_adhesion, "shear_adhesion"),

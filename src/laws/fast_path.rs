@@ -1,16 +1,13 @@
 //! The per-contact step's fast path (`rsl_contact_step` without per-contact overrides): one
-//! branch-free validity test instead of a check per field, and the model's scene kernel (its
-//! law choices folded into constants, as the batch kernels do) instead of the run-time
-//! decisions of the generic step.
+//! branch-free validity test instead of a check per field, then the step the batch kernels run
+//! ([`contact_step_with_geometry`]).
 //!
 //! It accepts only what the checked step ([`contact_step_pair`]) accepts, and gives the same
 //! bits: the geometry comes from the same formula ([`pair_geometry_unchecked`], which the
-//! checked path's `pair_geometry` wraps) and the folded model equals the model (that is what
-//! [`Scene::classify`] guarantees for the scene passed in). Anything the test does not pass,
+//! checked path's `pair_geometry` wraps) and the same step follows. Anything the test does not pass,
 //! and any non-finite result, goes to the checked step, which returns the precise error (or,
 //! for inputs the quick test is stricter about than the checked step, the result).
 
-use crate::batch::scene::{fold, with_scenes, Scene};
 use crate::decompose::Sphere;
 use crate::error::Error;
 use crate::geometry::{pair_geometry_in_range, pair_geometry_unchecked, ContactGeometry};
@@ -27,6 +24,7 @@ fn plain(input: &StepInput<f64>) -> bool {
     !input.setup
         && input.sliding_stiffness.is_none()
         && input.sliding_damping.is_none()
+        && input.sliding_friction.is_none()
         && input.rolling_stiffness.is_none()
         && input.rolling_damping.is_none()
         && input.rolling_friction.is_none()
@@ -159,40 +157,33 @@ pub fn outputs_finite(model: &Model, out: &StepOutput<f64>, state: &ContactState
     sums.all_finite()
 }
 
-/// Whether the results of the fast step of a specialised scene (code `S` != 0, see
-/// [`step_pair_if_valid`]) are finite: the guarantee of [`outputs_finite`] (every load, state
-/// value and energy term is finite) from fewer values, for inputs that passed the quick test.
+/// Whether the results of the fast step ([`step_pair_if_valid`]) are finite: the guarantee of
+/// [`outputs_finite`] (every load, state value and energy term is finite) from fewer values, for
+/// inputs that passed the quick test.
 ///
-/// It adds up `force1`, `torque1`, `torque2`, the state values the scene's laws write, and the
-/// energy terms if the model tracks them (no specialised scene does). The rest needs no test:
-/// - state values no law of the scene writes ([`written_fields`]: the springs of the laws that
-///   are off or keep none, as cdt, and the off-axis twist, which only YADE's vector twisting
-///   writes) are the input's, shown finite;
+/// It adds up `force1`, `torque1`, `torque2`, the state values the model's laws write, and the
+/// energy terms if the model tracks them. The rest needs no test:
+/// - state values no law writes ([`written_fields`]: the springs of the laws that are off or
+///   keep none, as cdt, and the off-axis twist, which only YADE's vector twisting writes) are
+///   the input's, shown finite;
 /// - the new previous normal `n`, the sliding force `F_t`, the rolling moment `M_r` and the
 ///   twisting torque `M_tw` each reach the same component of `force1 = F_t - f_n n` or of
 ///   `torque1 = l1 (n x F_t) + (M_r + M_tw)` through one add or subtract (and, for `n`, a
 ///   product with the finite `f_n`): a non-finite one makes that component non-finite too
 ///   (`inf - inf` and `0 inf` are NaN);
 /// - `force2` is `-force1`.
-///
-/// For the generic scene (`S` = 0) it is [`outputs_finite`].
 #[inline(always)]
-pub fn scene_outputs_finite<const S: u8>(
+pub fn step_outputs_finite(
     model: &Model,
     out: &StepOutput<f64>,
     state: &ContactState<f64>,
 ) -> bool {
-    let scene = Scene::from_code(S);
-    let folded = fold(scene, model);
-    if scene == Scene::Generic {
-        return outputs_finite(&folded, out, state);
-    }
     let mut sums = FiniteSums::default();
     let l = &out.loads;
     for v in [&l.force1, &l.torque1, &l.torque2] {
         sums.add_vec(v);
     }
-    let written = written_fields(&folded);
+    let written = written_fields(model);
     if written.sliding_spring {
         sums.add_vec(&state.sliding_spring);
     }
@@ -205,22 +196,22 @@ pub fn scene_outputs_finite<const S: u8>(
     if written.twisting_offaxis {
         sums.add_vec(&state.twisting_offaxis);
     }
-    if folded.track_energy {
+    if model.track_energy {
         sums.add(out.energy.terms());
     }
     sums.all_finite()
 }
 
-/// The fast path for the scene code `S`, before its output test: the step's output and the new
-/// state when the inputs pass the quick test, `None` otherwise. `inputs_finite` is the
-/// caller's [`inputs_finite`] (or the same test done on its own layout of the values). The
-/// caller must then test the results ([`scene_outputs_finite`]) and, on `None` or a non-finite
-/// result, run the checked step, which gives the error (or, for the few inputs the quick test
-/// is stricter about, the result). `input` must be plain (no override, no limit force, not the
-/// setup pass) and `S` the code of [`Scene::classify`] of `model`. Nothing here is passed by
-/// reference to a function that is not inlined, so the compiler keeps the inputs in registers.
+/// The fast path before its output test: the step's output and the new state when the inputs
+/// pass the quick test, `None` otherwise. `inputs_finite` is the caller's [`inputs_finite`] (or
+/// the same test done on its own layout of the values). The caller must then test the results
+/// ([`step_outputs_finite`]) and, on `None` or a non-finite result, run the checked step, which
+/// gives the error (or, for the few inputs the quick test is stricter about, the result).
+/// `input` must be plain (no override, no limit force, not the setup pass). Nothing here is
+/// passed by reference to a function that is not inlined, so the compiler keeps the inputs in
+/// registers.
 #[inline(always)]
-pub fn step_pair_if_valid<const S: u8>(
+pub fn step_pair_if_valid(
     model: &Model,
     body1: &Sphere<f64>,
     body2: &Sphere<f64>,
@@ -229,28 +220,26 @@ pub fn step_pair_if_valid<const S: u8>(
     inputs_finite: bool,
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
     debug_assert!(plain(input));
-    let folded = fold(Scene::from_code(S), model);
     let g = pair_geometry_unchecked(
         &body1.position,
         &body2.position,
         body1.radius,
         body2.radius,
-        folded.geometry,
+        model.geometry,
     );
-    if !(inputs_finite & inputs_in_range(&folded, body1, body2, &g, input)) {
+    if !(inputs_finite & inputs_in_range(model, body1, body2, &g, input)) {
         return None;
     }
     let mut next = *state;
-    let out =
-        contact_step_with_geometry(&folded, g, body1, Partner::Sphere(body2), input, &mut next);
+    let out = contact_step_with_geometry(model, g, body1, Partner::Sphere(body2), input, &mut next);
     Some((out, next))
 }
 
 /// [`step_pair_if_valid`] with the portable tests of the inputs and the results
-/// ([`inputs_finite`], [`scene_outputs_finite`]): the step's
-/// output and new state, or `None` for the checked step to take over.
+/// ([`inputs_finite`], [`step_outputs_finite`]): the step's output and new state, or `None` for
+/// the checked step to take over.
 #[inline(always)]
-pub fn try_step_pair<const S: u8>(
+pub fn try_step_pair(
     model: &Model,
     body1: &Sphere<f64>,
     body2: &Sphere<f64>,
@@ -258,39 +247,23 @@ pub fn try_step_pair<const S: u8>(
     state: &ContactState<f64>,
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
     let finite = inputs_finite(body1, body2, input, state);
-    let (out, next) = step_pair_if_valid::<S>(model, body1, body2, input, state, finite)?;
-    scene_outputs_finite::<S>(model, &out, &next).then_some((out, next))
-}
-
-/// `try_step_pair::<code of $scene>$args`, the scene a run-time value: one arm per row of
-/// [`with_scenes`], and the generic step for `Scene::Generic`.
-macro_rules! try_step_pair_of_scene {
-    ([$scene:expr, $args:tt] $({ $(#[$doc:meta])* $s:ident = $code:literal, $($row:tt)* })*) => {
-        match $scene {
-            Scene::Generic => try_step_pair::<0> $args,
-            $(Scene::$s => try_step_pair::<$code> $args,)*
-        }
-    };
+    let (out, next) = step_pair_if_valid(model, body1, body2, input, state, finite)?;
+    step_outputs_finite(model, &out, &next).then_some((out, next))
 }
 
 /// One checked step of a sphere pair, as [`contact_step_pair`] (same results, same errors,
-/// `state` written only on success), faster: `scene` must be [`Scene::classify`] of `model`.
-/// Inputs with overrides, a limit force or the setup pass go straight to the checked step.
+/// `state` written only on success), faster. Inputs with overrides, a limit force or the setup
+/// pass go straight to the checked step.
 #[inline(always)]
 pub fn contact_step_pair_fast(
     model: &Model,
-    scene: Scene,
     body1: &Sphere<f64>,
     body2: &Sphere<f64>,
     input: &StepInput<f64>,
     state: &mut ContactState<f64>,
 ) -> Result<StepOutput<f64>, Error> {
     if plain(input) {
-        let fast = with_scenes!(
-            try_step_pair_of_scene,
-            [scene, (model, body1, body2, input, state)]
-        );
-        if let Some((out, next)) = fast {
+        if let Some((out, next)) = try_step_pair(model, body1, body2, input, state) {
             *state = next;
             return Ok(out);
         }

@@ -3,6 +3,7 @@
 
 pub mod checked;
 pub mod fast_path;
+pub mod materials;
 pub mod model;
 pub mod presets;
 pub mod spring;

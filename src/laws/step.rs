@@ -53,6 +53,9 @@ pub struct StepInput<T: Real> {
     pub sliding_stiffness: Option<T>,
     /// Per-contact sliding damping replacing the model's `gamma_t`.
     pub sliding_damping: Option<T>,
+    /// Per-contact sliding friction coefficient replacing the model's `mu_s` (also read by
+    /// Marshall twisting), e.g. a material pair's.
+    pub sliding_friction: Option<T>,
     /// Per-contact rolling stiffness (`k_r` or `k_theta` by the form) replacing the model's
     /// (and any derived EPSD rule).
     pub rolling_stiffness: Option<T>,
@@ -105,6 +108,7 @@ impl<T: Real> StepInput<T> {
             inertia2: T::zero(),
             sliding_stiffness: None,
             sliding_damping: None,
+            sliding_friction: None,
             rolling_stiffness: None,
             rolling_damping: None,
             rolling_friction: None,
@@ -300,6 +304,16 @@ fn adhesive_limit<T: Real>(adhesion: T, mu: T, force: T) -> T {
     let sum = adhesion + limit_of(mu, force);
     let sum = select(sum.simd_ne(sum), lit(f64::INFINITY), sum);
     select(sum.simd_lt(T::zero()), T::zero(), sum)
+}
+
+/// Marshall twisting's limit coefficient `2/3 mu_s` (a length once times the contact radius):
+/// the model's in one rounding, or a per-contact `mu_s` times `2/3` (the same bits in double).
+#[inline(always)]
+fn marshall_friction<T: Real>(model: &Model, input: &StepInput<T>) -> T {
+    match input.sliding_friction {
+        None => lit(2.0 / 3.0 * model.sliding.friction),
+        Some(mu) => lit::<T>(2.0 / 3.0) * mu,
+    }
 }
 
 /// The EPSD rolling spring's coefficients (stiffness and damping in the law's form, the limit
@@ -574,7 +588,9 @@ pub fn contact_step_with_geometry<T: Real>(
                 }
             }
         }
-        let mu = lit::<T>(model.sliding.friction);
+        let mu = input
+            .sliding_friction
+            .unwrap_or(lit(model.sliding.friction));
         let plain_limit = limit_of(mu, f_limit);
         let limit = match input.shear_adhesion {
             None => plain_limit,
@@ -775,10 +791,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 SpringCoefficients {
                     stiffness: k_t * a2h,
                     damping: gamma_t * a2h,
-                    limit: limit_of(
-                        limit_of(lit::<T>(2.0 / 3.0 * model.sliding.friction), a),
-                        f_limit,
-                    ),
+                    limit: limit_of(limit_of(marshall_friction(model, input), a), f_limit),
                 }
             }
             _ => SpringCoefficients {

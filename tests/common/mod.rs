@@ -1,7 +1,6 @@
 //! Shared helpers of the integration tests: a seeded generator and tolerance checks.
 #![allow(dead_code)]
 
-use rollslide::batch::Scene;
 use rollslide::laws::model::{
     Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
 };
@@ -28,8 +27,12 @@ pub fn full_model(preset: Preset, transport: Transport) -> Model {
     m
 }
 
-/// One model per specialised scene kernel, with the scene it must get.
-pub fn scene_models() -> Vec<(Model, Scene)> {
+/// One model per law set a DEM host runs, each with a short name for messages: linear sliding
+/// on or off, EPSD rolling (or cdt) on or off, sds or Marshall twisting on or off, in each preset
+/// family (objective with exact transport, LAMMPS_2021 with project-rescale, LIGGGHTS_3_8 with
+/// its own transports and rolling laws). The batch and fast-path tests step every one of them,
+/// at every SIMD level, against the per-contact checked step.
+pub fn law_set_models() -> Vec<(Model, String)> {
     let full = full_model(Preset::Objective, Transport::Exact);
     let lammps = full_model(Preset::Lammps2021, Transport::ProjectRescale);
     let mut sliding = full;
@@ -79,39 +82,43 @@ pub fn scene_models() -> Vec<(Model, Scene)> {
     slide_epsd2_liggghts.rolling.stiffness_rule = RollingStiffness::Epsd2;
     slide_epsd2_liggghts.rolling.damping = 0.2;
     slide_epsd2_liggghts.rolling.friction = 0.05;
-    vec![
-        (full, Scene::FullExact),
-        (lammps, Scene::FullLammps),
-        (sliding, Scene::SlidingExact),
-        (slide_roll, Scene::SlidingRollingExact),
-        (sliding_lammps, Scene::SlidingLammps),
-        (roll_twist_lammps, Scene::RollingTwistingLammps),
-        (roll_twist, Scene::RollingTwistingExact),
-        (slide_roll_lammps, Scene::SlidingRollingLammps),
-        (lammps_marshall, Scene::FullLammpsMarshall),
-        (exact_marshall, Scene::FullExactMarshall),
-        (roll, Scene::RollingExact),
-        (roll_lammps, Scene::RollingLammps),
-        (twist_lammps, Scene::TwistingLammps),
-        (slide_twist_lammps, Scene::SlidingTwistingLammps),
-        (twist, Scene::TwistingExact),
-        (slide_twist, Scene::SlidingTwistingExact),
-        (slide_cdt_liggghts, Scene::SlidingCdtLiggghts),
-        (slide_epsd2_liggghts, Scene::SlidingEpsd2Liggghts),
+    [
+        (full, "full/exact"),
+        (lammps, "full/lammps"),
+        (sliding, "sliding/exact"),
+        (slide_roll, "slide+roll/exact"),
+        (sliding_lammps, "sliding/lammps"),
+        (roll_twist_lammps, "roll+twist/lammps"),
+        (roll_twist, "roll+twist/exact"),
+        (slide_roll_lammps, "slide+roll/lammps"),
+        (lammps_marshall, "full/lammps+marshall"),
+        (exact_marshall, "full/exact+marshall"),
+        (roll, "roll/exact"),
+        (roll_lammps, "roll/lammps"),
+        (twist_lammps, "twist/lammps"),
+        (slide_twist_lammps, "slide+twist/lammps"),
+        (twist, "twist/exact"),
+        (slide_twist, "slide+twist/exact"),
+        (slide_cdt_liggghts, "slide+cdt/liggghts"),
+        (slide_epsd2_liggghts, "slide+epsd2/liggghts"),
     ]
+    .into_iter()
+    .map(|(m, name)| (m, name.to_string()))
+    .collect()
 }
 
-/// The scene models of the LIGGGHTS family (whose scenes leave the rolling form to the model, a
-/// run-time choice) in the length form, `mu_r` = 0.1 (cdt: the moment `mu_r R_r k_n delta`;
-/// epsd2: `k_r = k_t`, limit `mu_r R_r f`), with the scene each must still get.
-pub fn length_form_models() -> Vec<(Model, Scene)> {
-    scene_models()
+/// The LIGGGHTS models of [`law_set_models`] (angle form, LIGGGHTS' own) in the length form,
+/// `mu_r` = 0.1 (cdt: the moment `mu_r R_r k_n delta`; epsd2: `k_r = k_t`, limit
+/// `mu_r R_r f`): the form a host uses to give each contact of unequal spheres LIGGGHTS'
+/// `mu_r R_eff` from one `mu_r`.
+pub fn length_form_models() -> Vec<(Model, String)> {
+    law_set_models()
         .into_iter()
         .filter(|(m, _)| m.preset == Preset::Liggghts38)
-        .map(|(mut m, s)| {
+        .map(|(mut m, name)| {
             m.rolling.form = RollingForm::Length;
             m.rolling.friction = 0.1;
-            (m, s)
+            (m, format!("{name} (length form)"))
         })
         .collect()
 }

@@ -1,0 +1,487 @@
+//! Mixed materials through the C entry points: a model's table of coefficient sets
+//! (`rsl_model_set_materials`) and each contact's index into it
+//! (`rsl_batch_contact_params.material`) give every contact the bits of `rsl_contact_step` with
+//! its set's model, at every SIMD level, in all three calls that take the parameters; a bad
+//! index is refused as a bad particle index is, with nothing written.
+
+use super::batch::{
+    rsl_batch_contact_params, rsl_batch_loads, rsl_batch_options, rsl_batch_report,
+    rsl_batch_step_contacts_params, rsl_batch_step_indexed, rsl_batch_step_params,
+    RSL_PRECISION_F64, RSL_SIMD_AVX2, RSL_SIMD_AVX512, RSL_SIMD_SCALAR,
+};
+use super::contact::{
+    rsl_contact_input, rsl_contact_loads, rsl_contact_state, rsl_contact_step,
+    RSL_INPUT_SLIDING_STIFFNESS,
+};
+use super::model::{
+    rsl_model, rsl_model_material_count, rsl_model_set_materials, rsl_model_set_sliding,
+    rsl_model_set_twisting, RSL_SLIDING_LINEAR, RSL_TWISTING_SDS,
+};
+use super::status::{RSL_ERR_INVALID_ARGUMENT, RSL_OK};
+use super::types::{rsl_sphere, rsl_vec3};
+use crate::capi::batch::Simd;
+use crate::laws::model::{
+    Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
+};
+
+/// A small deterministic generator (the same values on every run and platform).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+    fn vec(&mut self, scale: f64) -> rsl_vec3 {
+        rsl_vec3 {
+            x: self.uniform(-scale, scale),
+            y: self.uniform(-scale, scale),
+            z: self.uniform(-scale, scale),
+        }
+    }
+}
+
+/// The law sets of the test, one per preset family and rolling law kind: LAMMPS' full set,
+/// the objective full set with Marshall twisting, LIGGGHTS' epsd2 (derived rolling stiffness,
+/// angle form) and cdt rolling.
+fn base_models() -> Vec<Model> {
+    let mut lammps = Model::with_preset(Preset::Lammps2021);
+    lammps.sliding.law = SlidingLaw::Linear;
+    (
+        lammps.sliding.stiffness,
+        lammps.sliding.damping,
+        lammps.sliding.friction,
+    ) = (2e5, 30.0, 0.5);
+    lammps.rolling.law = RollingLaw::Epsd;
+    (
+        lammps.rolling.stiffness,
+        lammps.rolling.damping,
+        lammps.rolling.friction,
+    ) = (1e5, 10.0, 0.1);
+    lammps.twisting.law = TwistingLaw::Sds;
+    (lammps.twisting.stiffness, lammps.twisting.damping) = (50.0, 0.5);
+    lammps.twisting.friction = 0.05;
+    lammps.sliding_transport = Transport::ProjectRescale;
+    lammps.rolling_transport = Transport::ProjectRescale;
+    let mut marshall = lammps;
+    marshall.preset = Preset::Objective;
+    marshall.sliding_transport = Transport::Exact;
+    marshall.rolling_transport = Transport::Exact;
+    marshall.twisting.law = TwistingLaw::Marshall;
+    let mut epsd2 = Model::with_preset(Preset::Liggghts38);
+    epsd2.sliding = lammps.sliding;
+    epsd2.rolling.law = RollingLaw::Epsd;
+    epsd2.rolling.form = RollingForm::Angle;
+    epsd2.rolling.stiffness_rule = RollingStiffness::Epsd2;
+    (epsd2.rolling.damping, epsd2.rolling.friction) = (1e-3, 0.05);
+    let mut cdt = epsd2;
+    cdt.rolling.law = RollingLaw::Cdt;
+    cdt.rolling.form = RollingForm::Length;
+    vec![lammps, marshall, epsd2, cdt]
+}
+
+/// Three material pairs of `base`'s laws: its own coefficients and two others, each value
+/// scaled differently (a reached limit in some contacts, not in others).
+fn material_models(base: &Model) -> Vec<Model> {
+    [1.0, 0.3, 2.5]
+        .iter()
+        .map(|&f| {
+            let mut m = *base;
+            m.sliding.stiffness *= f;
+            m.sliding.damping *= 2.0 - f / 2.0;
+            m.sliding.friction *= f;
+            m.rolling.stiffness *= 1.0 / f;
+            m.rolling.damping *= f;
+            m.rolling.friction *= 1.5 - f / 5.0;
+            m.twisting.stiffness *= f;
+            m.twisting.damping *= 1.0 / f;
+            m.twisting.friction *= f;
+            m
+        })
+        .collect()
+}
+
+/// Particles in contact pairs (particle-major: contact `c` joins `pairs[2c]`, `pairs[2c+1]`),
+/// their normal forces and stiffnesses, and non-zero histories.
+struct Contacts {
+    particles: Vec<rsl_sphere>,
+    pairs: Vec<u32>,
+    f_n: Vec<f64>,
+    k_n: Vec<f64>,
+    states: Vec<rsl_contact_state>,
+}
+
+fn contacts(n: usize, rng: &mut Lcg) -> Contacts {
+    let mut c = Contacts {
+        particles: Vec::new(),
+        pairs: Vec::new(),
+        f_n: Vec::new(),
+        k_n: Vec::new(),
+        states: Vec::new(),
+    };
+    for i in 0..n {
+        let (r1, r2) = (rng.uniform(0.5, 1.5), rng.uniform(0.5, 1.5));
+        let dir = rng.vec(1.0);
+        let len = (dir.x * dir.x + dir.y * dir.y + dir.z * dir.z).sqrt();
+        let gap = (r1 + r2) * rng.uniform(0.97, 0.999);
+        let p1 = rsl_vec3 {
+            x: 4.0 * i as f64,
+            y: 0.0,
+            z: 0.0,
+        };
+        let p2 = rsl_vec3 {
+            x: p1.x + gap * dir.x / len,
+            y: p1.y + gap * dir.y / len,
+            z: p1.z + gap * dir.z / len,
+        };
+        for (p, r) in [(p1, r1), (p2, r2)] {
+            c.particles.push(rsl_sphere {
+                position: p,
+                velocity: rng.vec(0.5),
+                angular_velocity: rng.vec(3.0),
+                radius: r,
+            });
+        }
+        c.pairs.extend([2 * i as u32, 2 * i as u32 + 1]);
+        c.f_n.push(rng.uniform(1.0, 200.0));
+        c.k_n.push(rng.uniform(1e4, 1e5));
+        c.states.push(rsl_contact_state {
+            sliding_spring: rng.vec(1e-4),
+            rolling_spring: rng.vec(1e-4),
+            ..Default::default()
+        });
+    }
+    c
+}
+
+/// `rsl_contact_step` of contact `c` with `model`: status, loads, new state.
+fn reference(
+    model: &rsl_model,
+    c: &Contacts,
+    i: usize,
+    k_t: Option<f64>,
+) -> (i32, rsl_contact_loads, rsl_contact_state) {
+    let input = rsl_contact_input {
+        normal_force: c.f_n[i],
+        dt: 1e-4,
+        normal_stiffness: c.k_n[i],
+        sliding_stiffness: k_t.unwrap_or(0.0),
+        flags: if k_t.is_some() {
+            RSL_INPUT_SLIDING_STIFFNESS
+        } else {
+            0
+        },
+        ..Default::default()
+    };
+    let (mut state, mut out) = (c.states[i], rsl_contact_loads::default());
+    let (b1, b2) = (
+        &c.particles[c.pairs[2 * i] as usize],
+        &c.particles[c.pairs[2 * i + 1] as usize],
+    );
+    // SAFETY: a live handle and locals of the right types; none overlap.
+    let status = unsafe { rsl_contact_step(model, b1, b2, &input, &mut state, &mut out) };
+    (status, out, state)
+}
+
+/// The double-precision option sets of this CPU's SIMD levels.
+fn levels() -> Vec<rsl_batch_options> {
+    [RSL_SIMD_SCALAR, RSL_SIMD_AVX2, RSL_SIMD_AVX512]
+        .into_iter()
+        .filter(|&simd| Simd::resolve(simd).is_ok())
+        .map(|simd| rsl_batch_options {
+            precision: RSL_PRECISION_F64,
+            simd,
+            flags: 0,
+            reserved: 0,
+        })
+        .collect()
+}
+
+fn bits(v: &rsl_vec3) -> [u64; 3] {
+    [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
+}
+
+fn state_bits(s: &rsl_contact_state) -> Vec<u64> {
+    let mut out = Vec::new();
+    for v in [
+        &s.sliding_spring,
+        &s.rolling_spring,
+        &s.twisting_offaxis,
+        &s.previous_normal,
+    ] {
+        out.extend(bits(v));
+    }
+    out.push(s.twisting_angle.to_bits());
+    out.push(u64::from(s.slip_flags));
+    out
+}
+
+#[test]
+fn each_contact_steps_as_its_material_pairs_model_bit_for_bit() {
+    let mut rng = Lcg(11);
+    let n = 101; // three blocks and a part, so that groups mix whole and partial ones
+    for base in base_models() {
+        let sets: Vec<rsl_model> = material_models(&base)
+            .into_iter()
+            .map(rsl_model::live)
+            .collect();
+        let mut model = rsl_model::live(base);
+        let pointers: Vec<*const rsl_model> = sets.iter().map(|s| s as *const _).collect();
+        // SAFETY: a live handle and an array of three live handles.
+        let status = unsafe { rsl_model_set_materials(&mut model, pointers.as_ptr(), 3) };
+        assert_eq!(status, RSL_OK);
+        let c = contacts(n, &mut rng);
+        // Random sets, with two indices out of range (3 and u32::MAX).
+        let mut material: Vec<u32> = (0..n).map(|_| (rng.next() * 3.0) as u32).collect();
+        let bad = [17usize, 64];
+        material[bad[0]] = 3;
+        material[bad[1]] = u32::MAX;
+        let k_t: Vec<f64> = (0..n).map(|_| rng.uniform(5e4, 5e5)).collect();
+        for with_k_t in [false, true] {
+            let want: Vec<_> = (0..n)
+                .map(|i| {
+                    let set = sets.get(material[i] as usize).unwrap_or(&sets[0]);
+                    reference(set, &c, i, with_k_t.then_some(k_t[i]))
+                })
+                .collect();
+            for (i, w) in want.iter().enumerate() {
+                assert_eq!(w.0, RSL_OK, "reference step of contact {i}");
+            }
+            let params = rsl_batch_contact_params {
+                sliding_stiffness: if with_k_t {
+                    k_t.as_ptr()
+                } else {
+                    std::ptr::null()
+                },
+                sliding_damping: std::ptr::null(),
+                material: material.as_ptr(),
+            };
+            for o in levels() {
+                let what = format!("{base:?} k_t {with_k_t} {o:?}");
+                let check = |status: i32, report: &rsl_batch_report| {
+                    assert_eq!(status, RSL_ERR_INVALID_ARGUMENT, "{what}");
+                    assert_eq!(report.failed, 2, "{what}");
+                    assert_eq!(report.processed, n as u64 - 2, "{what}");
+                    assert_eq!(report.first_failed, bad[0] as u64, "{what}");
+                    assert_eq!(report.first_status, RSL_ERR_INVALID_ARGUMENT, "{what}");
+                };
+                // Particle-major, states in contact order.
+                let mut states = c.states.clone();
+                let np = c.particles.len();
+                let (mut force, mut torque) =
+                    (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+                let mut report = rsl_batch_report::default();
+                // SAFETY: every array holds what the call reads; none overlap.
+                let status = unsafe {
+                    rsl_batch_step_params(
+                        &model,
+                        c.particles.as_ptr(),
+                        np,
+                        c.pairs.as_ptr(),
+                        n,
+                        c.f_n.as_ptr(),
+                        c.k_n.as_ptr(),
+                        &params,
+                        1e-4,
+                        &o,
+                        states.as_mut_ptr(),
+                        force.as_mut_ptr(),
+                        torque.as_mut_ptr(),
+                        &mut report,
+                    )
+                };
+                check(status, &report);
+                for i in 0..n {
+                    let (b1, b2) = (2 * i, 2 * i + 1);
+                    if bad.contains(&i) {
+                        assert_eq!(state_bits(&states[i]), state_bits(&c.states[i]), "{what}");
+                        for p in [b1, b2] {
+                            assert_eq!(bits(&force[p]), [0; 3], "{what}: {i} wrote a force");
+                            assert_eq!(bits(&torque[p]), [0; 3], "{what}: {i} wrote a torque");
+                        }
+                        continue;
+                    }
+                    let (_, l, s) = &want[i];
+                    assert_eq!(state_bits(&states[i]), state_bits(s), "{what}: state {i}");
+                    assert_eq!(bits(&force[b1]), bits(&l.force1), "{what}: force {i}");
+                    assert_eq!(bits(&torque[b1]), bits(&l.torque1), "{what}: torque1 {i}");
+                    assert_eq!(bits(&torque[b2]), bits(&l.torque2), "{what}: torque2 {i}");
+                    // Body 2 received -F1 (added to zero).
+                    let minus = rsl_vec3 {
+                        x: -l.force1.x,
+                        y: -l.force1.y,
+                        z: -l.force1.z,
+                    };
+                    assert_eq!(bits(&force[b2]), bits(&minus), "{what}: force2 {i}");
+                }
+                // Histories where the host keeps them: the same bits.
+                let mut slots = vec![rsl_contact_state::default(); 2 * n];
+                for i in 0..n {
+                    slots[2 * i + 1] = c.states[i];
+                }
+                let index: Vec<usize> = (0..n).map(|i| 2 * i + 1).collect();
+                let (mut force2, mut torque2) =
+                    (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+                let mut report = rsl_batch_report::default();
+                // SAFETY: as above; `slots` holds `2 n` states, `index` `n` increasing indices.
+                let status = unsafe {
+                    rsl_batch_step_indexed(
+                        &model,
+                        c.particles.as_ptr(),
+                        np,
+                        c.pairs.as_ptr(),
+                        n,
+                        c.f_n.as_ptr(),
+                        c.k_n.as_ptr(),
+                        &params,
+                        1e-4,
+                        &o,
+                        slots.as_mut_ptr(),
+                        2 * n,
+                        index.as_ptr(),
+                        force2.as_mut_ptr(),
+                        torque2.as_mut_ptr(),
+                        &mut report,
+                    )
+                };
+                check(status, &report);
+                for i in 0..n {
+                    assert_eq!(state_bits(&slots[2 * i + 1]), state_bits(&states[i]));
+                }
+                let all = |v: &[rsl_vec3]| v.iter().flat_map(bits).collect::<Vec<_>>();
+                assert_eq!(all(&force2), all(&force), "{what}: indexed forces");
+                assert_eq!(all(&torque2), all(&torque), "{what}: indexed torques");
+                // Contact-major.
+                let body1: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i]).collect();
+                let body2: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i + 1]).collect();
+                let mut states = c.states.clone();
+                let sentinel = rsl_batch_loads {
+                    force1: rsl_vec3 {
+                        x: 7.0,
+                        y: 7.0,
+                        z: 7.0,
+                    },
+                    ..Default::default()
+                };
+                let mut out = vec![sentinel; n];
+                let mut report = rsl_batch_report::default();
+                // SAFETY: every array holds `n` elements; none overlap.
+                let status = unsafe {
+                    rsl_batch_step_contacts_params(
+                        &model,
+                        body1.as_ptr(),
+                        body2.as_ptr(),
+                        n,
+                        c.f_n.as_ptr(),
+                        c.k_n.as_ptr(),
+                        &params,
+                        1e-4,
+                        &o,
+                        states.as_mut_ptr(),
+                        out.as_mut_ptr(),
+                        &mut report,
+                    )
+                };
+                check(status, &report);
+                for i in 0..n {
+                    if bad.contains(&i) {
+                        assert_eq!(bits(&out[i].force1), bits(&sentinel.force1), "{what}");
+                        assert_eq!(state_bits(&states[i]), state_bits(&c.states[i]));
+                        continue;
+                    }
+                    let (_, l, s) = &want[i];
+                    assert_eq!(state_bits(&states[i]), state_bits(s), "{what}: state {i}");
+                    assert_eq!(bits(&out[i].force1), bits(&l.force1), "{what}: {i}");
+                    assert_eq!(bits(&out[i].torque2), bits(&l.torque2), "{what}: {i}");
+                }
+            }
+        }
+        // The sets do differ: some contact's loads change with its material.
+        let mut other = material.clone();
+        for m in other.iter_mut() {
+            *m = m.wrapping_add(1) % 3;
+        }
+        let differs = (0..n).filter(|i| !bad.contains(i)).any(|i| {
+            let a = reference(&sets[material[i] as usize], &c, i, None);
+            let b = reference(&sets[other[i] as usize], &c, i, None);
+            bits(&a.1.force1) != bits(&b.1.force1) || bits(&a.1.torque1) != bits(&b.1.torque1)
+        });
+        assert!(differs, "{base:?}: the material sets give the same loads");
+    }
+}
+
+#[test]
+fn a_table_takes_sets_of_the_models_laws_only_and_setters_keep_it_for_values() {
+    let base = base_models()[0];
+    let mut model = rsl_model::live(base);
+    let mut other_laws = base;
+    other_laws.twisting.law = TwistingLaw::None;
+    let mut other_transport = base;
+    other_transport.rolling_transport = Transport::Exact;
+    let good: Vec<rsl_model> = material_models(&base)
+        .into_iter()
+        .map(rsl_model::live)
+        .collect();
+    let count = |m: &rsl_model| {
+        let mut n = 99;
+        // SAFETY: a live handle and a local.
+        assert_eq!(unsafe { rsl_model_material_count(m, &mut n) }, RSL_OK);
+        n
+    };
+    let set = |m: &mut rsl_model, sets: &[*const rsl_model]| {
+        // SAFETY: a live handle; `sets` holds `sets.len()` pointers (live or NULL).
+        unsafe { rsl_model_set_materials(m, sets.as_ptr(), sets.len()) }
+    };
+    let good_ptrs: Vec<*const rsl_model> = good.iter().map(|m| m as *const _).collect();
+    assert_eq!(set(&mut model, &good_ptrs), RSL_OK);
+    assert_eq!(count(&model), 3);
+    // Refused, the table unchanged: other laws, another transport, a NULL set.
+    for bad in [
+        rsl_model::live(other_laws),
+        rsl_model::live(other_transport),
+    ] {
+        let sets = [good_ptrs[0], &bad as *const rsl_model];
+        assert_eq!(set(&mut model, &sets), RSL_ERR_INVALID_ARGUMENT);
+        assert_eq!(count(&model), 3);
+    }
+    let sets = [good_ptrs[0], std::ptr::null()];
+    assert_eq!(set(&mut model, &sets), RSL_ERR_INVALID_ARGUMENT);
+    assert_eq!(count(&model), 3);
+    // A setter that changes values keeps the table; one that changes a law removes it.
+    // SAFETY: a live handle, used by this thread only.
+    unsafe {
+        assert_eq!(
+            rsl_model_set_sliding(&mut model, RSL_SLIDING_LINEAR, 3e5, 20.0, 0.4),
+            RSL_OK
+        );
+        assert_eq!(count(&model), 3);
+        assert_eq!(
+            rsl_model_set_twisting(&mut model, RSL_TWISTING_SDS, 10.0, 0.1, 0.02),
+            RSL_OK
+        );
+        assert_eq!(count(&model), 3);
+    }
+    // SAFETY: as above.
+    unsafe {
+        assert_eq!(
+            super::model::rsl_model_set_twisting(&mut model, 0, 0.0, 0.0, 0.0),
+            RSL_OK
+        );
+    }
+    assert_eq!(model.model.twisting.law, TwistingLaw::None);
+    assert_eq!(count(&model), 0);
+    // n = 0 removes a table (NULL allowed).
+    assert_eq!(set(&mut model, &[]), RSL_OK);
+    // SAFETY: a live handle; NULL with n = 0.
+    assert_eq!(
+        unsafe { rsl_model_set_materials(&mut model, std::ptr::null(), 0) },
+        RSL_OK
+    );
+    assert_eq!(count(&model), 0);
+}
