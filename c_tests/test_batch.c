@@ -452,7 +452,7 @@ void test_batch_liggghts_epsd2(void) {
         kt[c] = 2e4 * (c + 1);
         gt[c] = 0.5 * c;
     }
-    const rsl_batch_contact_params params = {kt, gt, NULL};
+    const rsl_batch_contact_params params = {kt, gt, NULL, NULL};
     rsl_model *m = NULL;
     CHECK_STATUS(rsl_model_new(RSL_PRESET_LIGGGHTS_3_8, &m), RSL_OK);
     CHECK_STATUS(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, 1e5, 10.0, 0.5), RSL_OK);
@@ -540,7 +540,7 @@ void test_batch_contact_params(void) {
     memset(sr, 0, sizeof sr);
     memset(sb, 0, sizeof sb);
     rsl_batch_loads out[NC];
-    rsl_batch_contact_params params = {kt, gt, NULL};
+    rsl_batch_contact_params params = {kt, gt, NULL, NULL};
     rsl_contact_loads ref[NC];
     for (int step = 0; step < 3; step++) {
         for (int c = 0; c < NC; c++) {
@@ -600,7 +600,7 @@ void test_batch_step_params(void) {
         kt[c] = 2e4 * (c + 1);
         gt[c] = 0.5 * c;
     }
-    rsl_batch_contact_params params = {kt, gt, NULL};
+    rsl_batch_contact_params params = {kt, gt, NULL, NULL};
     rsl_contact_state sr[NC], sb[NC];
     memset(sr, 0, sizeof sr);
     memset(sb, 0, sizeof sb);
@@ -662,7 +662,7 @@ void test_batch_step_params(void) {
     memcpy(before, sb, sizeof sb);
     rsl_vec3 f_before[NP];
     memcpy(f_before, fb, sizeof fb);
-    rsl_batch_contact_params odd = {(const double *)((const char *)kt + 1), NULL, NULL};
+    rsl_batch_contact_params odd = {(const double *)((const char *)kt + 1), NULL, NULL, NULL};
     CHECK_STATUS(rsl_batch_step_params(m, p, NP, pairs, NC, fn, NULL, &odd, dt, NULL, sb, fb, tb,
                                        &rep),
                  RSL_ERR_MISALIGNED);
@@ -685,7 +685,7 @@ void test_batch_step_indexed(void) {
     const double dt = 1e-4;
     double kt[NC];
     for (int c = 0; c < NC; c++) kt[c] = 3e4 * (c + 1);
-    rsl_batch_contact_params params = {kt, NULL, NULL};
+    rsl_batch_contact_params params = {kt, NULL, NULL, NULL};
     enum { NS = 2 * NC + 1 };
     rsl_contact_state slots[NS], buffer[NC];
     size_t index[NC];

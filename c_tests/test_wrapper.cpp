@@ -193,7 +193,7 @@ static void test_batch_params_give_the_c_bits() {
     const double f_n[2] = {5.0, 4.0};
     double k_t[2] = {3e4, 5e4};
     const double gamma_t[2] = {2.0, 0.5};
-    const rsl_batch_contact_params params = {k_t, gamma_t, nullptr};
+    const rsl_batch_contact_params params = {k_t, gamma_t, nullptr, nullptr};
     rsl_contact_state s_cpp[2] = {rollslide::fresh_state(), rollslide::fresh_state()};
     rsl_contact_state s_c[2] = {rollslide::fresh_state(), rollslide::fresh_state()};
     rsl_vec3 f_cpp[3], t_cpp[3], f_c[3], t_c[3];

@@ -66,6 +66,7 @@ fn step1(
     let mut st = [*s];
     let mut out = [rsl_batch_loads::default()];
     let mut a = ContactSteps {
+        energy: None,
         body1: &p1,
         body2: &p2,
         normal_force: &[1.0],
@@ -284,6 +285,7 @@ fn time_step(m: &Model, f32: bool) -> f64 {
     for _ in 0..7 {
         let mut states = st.clone();
         let mut a = ContactSteps {
+            energy: None,
             body1: &b1,
             body2: &b2,
             normal_force: &fn_,

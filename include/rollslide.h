@@ -390,6 +390,31 @@ typedef struct rsl_batch_report {
   uint32_t reserved;
 } rsl_batch_report;
 
+// Energy terms of one step (load times length; 0 unless the model tracks energy).
+typedef struct rsl_contact_energy {
+  // Elastic energy in the sliding spring after the step.
+  double elastic_sliding;
+  // Elastic energy in the rolling spring after the step.
+  double elastic_rolling;
+  // Elastic energy in the twisting spring after the step.
+  double elastic_twisting;
+  // Dissipated by the sliding dashpot this step.
+  double dashpot_sliding;
+  // Dissipated by the rolling dashpot (viscous law included) this step.
+  double dashpot_rolling;
+  // Dissipated by the twisting dashpot this step.
+  double dashpot_twisting;
+  // Dissipated by the sliding slider (friction) this step.
+  double slider_sliding;
+  // Dissipated by the rolling slider (cdt included) this step.
+  double slider_rolling;
+  // Dissipated by the twisting slider this step.
+  double slider_twisting;
+  // Change of elastic energy caused by transporting the springs this step (0 to rounding
+  // for exact and project-rescale transport).
+  double transport;
+} rsl_contact_energy;
+
 // Per-contact coefficients of `rsl_batch_step_params`, `rsl_batch_step_indexed` and
 // `rsl_batch_step_contacts_params`, used instead of the model's: each pointer is NULL (the
 // model's value for every contact) or an array of one value per contact.
@@ -411,6 +436,11 @@ typedef struct rsl_batch_contact_params {
   const double *sliding_damping;
   // Material pair per contact (an index into the model's table), or NULL.
   const uint32_t *material;
+  // Output, or NULL: each stepped contact's energy terms (`rsl_contact_energy`, as
+  // `rsl_contact_step` returns them; one per contact in contact order), for a model that
+  // tracks energy (`rsl_model_set_energy_tracking`; `RSL_ERR_INVALID_ARGUMENT` otherwise).
+  // A skipped contact's entry is not written. Must not overlap any other array of the call.
+  struct rsl_contact_energy *energy;
 } rsl_batch_contact_params;
 
 // Loads of one contact (contact-major step): body 2 receives `-force1` and `torque2`.
@@ -532,31 +562,6 @@ typedef struct rsl_contact_input {
   // Padding; keep 0.
   uint32_t reserved;
 } rsl_contact_input;
-
-// Energy terms of one step (load times length; 0 unless the model tracks energy).
-typedef struct rsl_contact_energy {
-  // Elastic energy in the sliding spring after the step.
-  double elastic_sliding;
-  // Elastic energy in the rolling spring after the step.
-  double elastic_rolling;
-  // Elastic energy in the twisting spring after the step.
-  double elastic_twisting;
-  // Dissipated by the sliding dashpot this step.
-  double dashpot_sliding;
-  // Dissipated by the rolling dashpot (viscous law included) this step.
-  double dashpot_rolling;
-  // Dissipated by the twisting dashpot this step.
-  double dashpot_twisting;
-  // Dissipated by the sliding slider (friction) this step.
-  double slider_sliding;
-  // Dissipated by the rolling slider (cdt included) this step.
-  double slider_rolling;
-  // Dissipated by the twisting slider this step.
-  double slider_twisting;
-  // Change of elastic energy caused by transporting the springs this step (0 to rounding
-  // for exact and project-rescale transport).
-  double transport;
-} rsl_contact_energy;
 
 // Loads of one contact step. Body 2 receives `-force1` and `torque2`.
 typedef struct rsl_contact_loads {

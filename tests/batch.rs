@@ -237,6 +237,7 @@ fn contact_major_matches_per_contact_step() {
             let mut states = sc.states.clone();
             let mut out = vec![rsl_batch_loads::default(); sc.pairs.len()];
             let mut access = ContactSteps {
+                energy: None,
                 body1: &body1,
                 body2: &body2,
                 normal_force: &sc.normal_force,
@@ -308,6 +309,7 @@ fn particle_major_accumulates_per_contact_loads() {
         let mut force = vec![start; np];
         let mut torque = vec![rsl_vec3::default(); np];
         let mut access = ParticleSteps {
+            energy: None,
             particles: &sc.particles,
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
@@ -395,6 +397,7 @@ fn particle_major_sums_equal_contact_order_additions_bitwise() {
         let mut force: Vec<rsl_vec3> = (0..np).map(start).collect();
         let mut torque: Vec<rsl_vec3> = (0..np).map(|p| start(np - 1 - p)).collect();
         let mut access = ParticleSteps {
+            energy: None,
             particles: &sc.particles,
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
@@ -437,6 +440,7 @@ fn particle_major_in_calls<O: SlidingSource>(
     while c0 < nc {
         let c1 = (c0 + size).min(nc);
         let mut access = ParticleSteps {
+            energy: None,
             particles: &sc.particles,
             pairs: &sc.pairs[c0..c1],
             normal_force: &sc.normal_force[c0..c1],
@@ -475,6 +479,7 @@ fn contact_major_in_calls<'a>(
     while c0 < nc {
         let c1 = (c0 + size).min(nc);
         let mut access = ContactSteps {
+            energy: None,
             body1: &body1[c0..c1],
             body2: &body2[c0..c1],
             normal_force: &sc.normal_force[c0..c1],
@@ -561,6 +566,7 @@ fn repeated_steps_scalar_and_simd_agree() {
             let mut force = vec![rsl_vec3::default(); particles.len()];
             let mut torque = force.clone();
             let mut access = ParticleSteps {
+                energy: None,
                 particles: &particles,
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
@@ -650,6 +656,7 @@ fn invalid_contacts_are_skipped_and_reported() {
         };
         let mut out = vec![sentinel; sc.pairs.len()];
         let mut access = ParticleSteps {
+            energy: None,
             particles: &sc.particles,
             pairs: &sc.pairs,
             normal_force: &sc.normal_force,
@@ -681,6 +688,7 @@ fn invalid_contacts_are_skipped_and_reported() {
         // Contact-major: same skipping; outputs of bad contacts untouched.
         let mut states = sc.states.clone();
         let mut access = ContactSteps {
+            energy: None,
             body1: &body1,
             body2: &body2,
             normal_force: &sc.normal_force,
@@ -710,6 +718,7 @@ fn invalid_contacts_are_skipped_and_reported() {
         let pairs = [sc.pairs[c]];
         let mut states = [sc.states[c]];
         let mut access = ParticleSteps {
+            energy: None,
             particles: &sc.particles,
             pairs: &pairs,
             normal_force: &sc.normal_force[c..c + 1],
@@ -737,6 +746,7 @@ fn call_level_errors_process_nothing() {
     let mut force = vec![rsl_vec3::default(); 10];
     let mut torque = force.clone();
     let mut access = ParticleSteps {
+        energy: None,
         particles: &sc.particles,
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
@@ -841,6 +851,7 @@ fn underflowing_centre_distance_is_refused_in_every_kernel() {
         let mut states = sc.states.clone();
         let mut out = vec![rsl_batch_loads::default(); sc.pairs.len()];
         let mut access = ContactSteps {
+            energy: None,
             body1: &body1,
             body2: &body2,
             normal_force: &sc.normal_force,
@@ -908,6 +919,7 @@ fn packed_histories_step_as_full_states() {
             let (mut force, mut torque) =
                 (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
             let mut access = ParticleSteps {
+                energy: None,
                 particles: &sc.particles,
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
@@ -979,6 +991,7 @@ fn step_packed<const W: usize, const F: usize>(
         .collect();
     let (mut force, mut torque) = (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
     let mut access = ParticleSteps {
+        energy: None,
         particles: &sc.particles,
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
@@ -1050,6 +1063,7 @@ fn per_contact_sliding_coefficients_match_the_checked_step() {
                 let mut states = sc.states.clone();
                 let mut out = vec![rsl_batch_loads::default(); n];
                 let mut access = ContactSteps {
+                    energy: None,
                     body1: &body1,
                     body2: &body2,
                     normal_force: &sc.normal_force,
@@ -1131,6 +1145,7 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
                 let mut want_states = sc.states.clone();
                 let mut out = vec![rsl_batch_loads::default(); n];
                 let mut contacts = ContactSteps {
+                    energy: None,
                     body1: &body1,
                     body2: &body2,
                     normal_force: &sc.normal_force,
@@ -1165,6 +1180,7 @@ fn particle_major_sliding_coefficients_match_the_contact_major_step() {
                 let mut states = sc.states.clone();
                 let (mut force, mut torque) = (vec![start; np], vec![start; np]);
                 let mut access = ParticleSteps {
+                    energy: None,
                     particles: &sc.particles,
                     pairs: &sc.pairs,
                     normal_force: &sc.normal_force,
@@ -1220,6 +1236,7 @@ fn chunks_of_a_large_scene_count_only_the_particles_they_reach() {
     let (mut force, mut torque) = (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
     for (contacts, prefetches) in [(sc.pairs.len(), true), (512, false)] {
         let access = ParticleSteps {
+            energy: None,
             particles: &sc.particles,
             pairs: &sc.pairs[..contacts],
             normal_force: &sc.normal_force[..contacts],
@@ -1277,6 +1294,7 @@ fn step_with_states<St: ContactStates<Slot = rsl_contact_state>>(
     macro_rules! step {
         ($sliding:expr) => {{
             let mut access = ParticleSteps {
+                energy: None,
                 particles: &sc.particles,
                 pairs: &sc.pairs,
                 normal_force: &sc.normal_force,
@@ -1417,6 +1435,7 @@ fn indexed_states_refuse_bad_indices() {
     let sc = scenario(4, 3, 1);
     let (mut force, mut torque) = (vec![rsl_vec3::default(); 4], vec![rsl_vec3::default(); 4]);
     let access = ParticleSteps {
+        energy: None,
         particles: &sc.particles,
         pairs: &sc.pairs,
         normal_force: &sc.normal_force,
@@ -1438,6 +1457,7 @@ fn a_blocks_indices_are_in_range_exactly_when_its_largest_is() {
     let (mut force, mut torque) = (vec![rsl_vec3::default(); 5], vec![rsl_vec3::default(); 5]);
     let mut states = vec![rsl_contact_state::default(); pairs.len()];
     let access = ParticleSteps {
+        energy: None,
         particles: &particles,
         pairs: &pairs,
         normal_force: &[0.0; 5],

@@ -347,6 +347,7 @@ fn liggghts_rolling_laws_reproduce_liggghts_through_the_batch_call() {
                     let mut out = [rsl_batch_loads::default()];
                     let mut states = [state];
                     let mut access = ContactSteps {
+                        energy: None,
                         body1: &[c_sphere(&b1)],
                         body2: &[c_sphere(&b2)],
                         normal_force: &[row.f("fn")],

@@ -22,9 +22,9 @@
 //! replaces: the results are bitwise the same.
 
 use super::{
-    geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport, Lanes, LoadsSlot,
-    Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess, SLIP_ROLLING, SLIP_SLIDING,
-    SLIP_TWISTING, TOUCH_AHEAD,
+    energy_terms, geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport,
+    EnergyTerms, Lanes, LoadsSlot, Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess,
+    ENERGY_TERMS, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
 };
 use crate::batch::SphereSlot;
 use crate::decompose::Sphere;
@@ -325,6 +325,8 @@ struct Block {
     state: [Row; STATE_WORDS],
     /// Force on body 1 (3), torque on body 1 (3), torque on body 2 (3).
     loads: LoadRows,
+    /// The energy terms ([`EnergyTerms`] order), when the call returns them.
+    energy: [Row; ENERGY_TERMS],
     /// `SLIP_*` bits per contact.
     slip: [u32; BLOCK],
     /// Bit `i`: contact `i`'s particle indices were in range.
@@ -343,6 +345,7 @@ impl Block {
             coefficients: [[0.0; BLOCK]; COEFFICIENTS],
             state: [[0.0; BLOCK]; STATE_WORDS],
             loads: [[0.0; BLOCK]; 9],
+            energy: [[0.0; BLOCK]; ENERGY_TERMS],
             slip: [0; BLOCK],
             index_ok: 0,
             valid: 0,
@@ -694,6 +697,7 @@ struct LaneResults<L: Lanes> {
     force1: Vec3<L>,
     torque1: Vec3<L>,
     torque2: Vec3<L>,
+    energy: [L; ENERGY_TERMS],
     valid: u64,
     slips: [u64; 3],
 }
@@ -916,6 +920,7 @@ fn step_inputs<L: Lanes>(
         force1: l.force1,
         torque1: l.torque1,
         torque2: l.torque2,
+        energy: energy_terms(&out.energy),
         valid: geometry_ok & (inputs_ok & results_ok).bitmask() & lane_bits(L::N),
         slips: [
             out.slipped[0].bitmask(),
@@ -965,11 +970,13 @@ fn moving<L: Lanes>(velocity: Vec3<L>, angular_velocity: Vec3<L>, radius: L) -> 
 /// whether the finiteness tests may use fused instructions (see [`FiniteLanes`]).
 #[cfg_attr(not(debug_assertions), inline(always))]
 #[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
+#[allow(clippy::too_many_arguments)]
 fn step_lanes<L: Lanes>(
     model: &Model,
     dt: f64,
     needs_kn: bool,
     given: Given,
+    energy: bool,
     fused: bool,
     at: usize,
     b: &mut Block,
@@ -1033,6 +1040,11 @@ fn step_lanes<L: Lanes>(
     for k in 0..L::N {
         b.slip[at + k] = slip_bits(&slips, k);
     }
+    if energy {
+        for (row, e) in b.energy.iter_mut().zip(energy_terms(&out.energy)) {
+            e.store(&mut row[at..]);
+        }
+    }
 }
 
 /// Steps contact `c` on its own (one-lane types: staging through rows would only add copies),
@@ -1091,6 +1103,9 @@ fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
                 torque2: arr(&r.torque2),
             },
         );
+        if access.wants_energy() {
+            access.emit_energy(c, &r.energy.map(|e| e.lane(0)));
+        }
         report.processed += 1;
     } else {
         refuse(access, model, dt, needs_kn, c, report);
@@ -1167,6 +1182,15 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
         g += GROUP;
     }
     access.emit_block(copy, c0, ok, &b.loads);
+    if access.wants_energy() {
+        let mut bits = ok;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            let terms: EnergyTerms = std::array::from_fn(|q| b.energy[q][k]);
+            access.emit_energy(c0 + k, &terms);
+            bits &= bits - 1;
+        }
+    }
 }
 
 /// Steps every contact of `access` with `model` and time step `dt` (checked by the caller:
@@ -1214,6 +1238,8 @@ pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A
     }
     let sliding = access.sliding_overrides();
     let given = Given::of(&sliding);
+    // The energy terms go back only where the call asks for them.
+    let energy = model.track_energy && access.wants_energy();
     let mut block = Block::new();
     let mut c0 = 0;
     while c0 < n {
@@ -1222,7 +1248,7 @@ pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A
         block.valid = 0;
         let mut at = 0;
         while at < count {
-            step_lanes::<L>(model, dt, needs_kn, given, fused, at, &mut block);
+            step_lanes::<L>(model, dt, needs_kn, given, energy, fused, at, &mut block);
             // What the contacts `TOUCH_AHEAD` further on read in contact order, one lane
             // step's worth after each step: spread among the arithmetic, where the gather issues
             // the scattered rest a group at a time ([`Gather::touch_in_order`]).
@@ -1275,6 +1301,7 @@ mod tests {
             offset_of!(Block, coefficients),
             offset_of!(Block, state),
             offset_of!(Block, loads),
+            offset_of!(Block, energy),
         ];
         // Each field is whole rows, each row whole groups of one line.
         assert_eq!(GROUP * std::mem::size_of::<f64>(), 64);

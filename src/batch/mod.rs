@@ -185,6 +185,34 @@ pub struct PairLoads {
     pub torque2: [f64; 3],
 }
 
+/// Number of energy terms of a step ([`EnergyTerms`]).
+pub const ENERGY_TERMS: usize = 10;
+
+/// The energy terms of one contact step in the order of the C `rsl_contact_energy` (load times
+/// length): elastic energy after the step in the sliding, rolling and twisting springs; the
+/// energy dissipated this step by the sliding, rolling and twisting dashpots; by the sliding,
+/// rolling and twisting sliders; the change of elastic energy the transport of the springs
+/// made. See [`StepEnergy`](crate::laws::step::StepEnergy).
+pub type EnergyTerms = [f64; ENERGY_TERMS];
+
+/// [`EnergyTerms`] of a step's energy (in its lane type).
+#[inline(always)]
+pub fn energy_terms<T: Copy>(e: &crate::laws::step::StepEnergy<T>) -> [T; ENERGY_TERMS] {
+    let (s, r, t) = (&e.sliding, &e.rolling, &e.twisting);
+    [
+        s.elastic,
+        r.elastic,
+        t.elastic,
+        s.dashpot,
+        r.dashpot,
+        t.dashpot,
+        s.slider,
+        r.slider,
+        t.slider,
+        e.transport,
+    ]
+}
+
 /// A per-contact output slot of the contact-major step.
 pub trait LoadsSlot {
     /// Writes the loads of a successful step.
@@ -345,6 +373,16 @@ pub trait StepAccess: Gather {
     );
     /// Delivers the loads of a successful step of contact `c`.
     fn emit(&mut self, c: usize, loads: &PairLoads);
+    /// Whether the call returns each stepped contact's energy terms ([`StepAccess::emit_energy`]);
+    /// none by default.
+    #[inline(always)]
+    fn wants_energy(&self) -> bool {
+        false
+    }
+    /// Delivers the energy terms of a successful step of contact `c` (when
+    /// [`StepAccess::wants_energy`]).
+    #[inline(always)]
+    fn emit_energy(&mut self, _c: usize, _terms: &EnergyTerms) {}
     /// The bodies and states of contacts `first..first + n` (`1 <= n <= GROUP`, all
     /// `< len()`), slot `k >= n` repeating the last, and a bit per slot whose particle indices
     /// were in range. The default goes contact by contact ([`Gather::body_refs`],
@@ -570,6 +608,9 @@ pub struct ParticleSteps<'a, P, St, V, O = ModelSliding> {
     pub torque: &'a mut [V],
     /// Per-contact sliding coefficients ([`ModelSliding`]: the model's).
     pub sliding: O,
+    /// Energy terms per contact ([`EnergyTerms`], contact order), written for each stepped
+    /// contact when given (the model must track energy), or `None`.
+    pub energy: Option<&'a mut [EnergyTerms]>,
 }
 
 impl<P: SphereSlot, St, V: AddSlot, O> ParticleSteps<'_, P, St, V, O> {
@@ -593,7 +634,8 @@ impl<'a, P, St: ContactStates, V, O: SlidingSource> ParticleSteps<'a, P, St, V, 
             && self.states.contacts() == nc
             && self.force.len() == np
             && self.torque.len() == np
-            && self.sliding.overrides().fits(nc);
+            && self.sliding.overrides().fits(nc)
+            && self.energy.as_ref().is_none_or(|e| e.len() == nc);
         if ok {
             Ok(())
         } else {
@@ -691,6 +733,16 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
     #[inline(always)]
     fn state_ref(&self, c: usize) -> &St::Slot {
         self.states.get(c)
+    }
+    #[inline(always)]
+    fn wants_energy(&self) -> bool {
+        self.energy.is_some()
+    }
+    #[inline(always)]
+    fn emit_energy(&mut self, c: usize, terms: &EnergyTerms) {
+        if let Some(e) = self.energy.as_deref_mut() {
+            e[c] = *terms;
+        }
     }
     #[inline(always)]
     fn emit(&mut self, c: usize, l: &PairLoads) {
@@ -812,6 +864,9 @@ pub struct ContactSteps<'a, P, S, O> {
     pub out: &'a mut [O],
     /// Per-contact sliding coefficients ([`SlidingOverrides::NONE`]: the model's).
     pub sliding: SlidingOverrides<'a>,
+    /// Energy terms per contact ([`EnergyTerms`]), written for each stepped contact when given
+    /// (the model must track energy), or `None`.
+    pub energy: Option<&'a mut [EnergyTerms]>,
 }
 
 impl<'a, P, S, O> ContactSteps<'a, P, S, O> {
@@ -823,7 +878,8 @@ impl<'a, P, S, O> ContactSteps<'a, P, S, O> {
             && self.normal_stiffness.is_none_or(|k| k.len() == n)
             && self.states.len() == n
             && self.out.len() == n
-            && self.sliding.fits(n);
+            && self.sliding.fits(n)
+            && self.energy.as_ref().is_none_or(|e| e.len() == n);
         if ok {
             Ok(())
         } else {
@@ -908,6 +964,16 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
     #[inline(always)]
     fn state_ref(&self, c: usize) -> &S {
         &self.states[c]
+    }
+    #[inline(always)]
+    fn wants_energy(&self) -> bool {
+        self.energy.is_some()
+    }
+    #[inline(always)]
+    fn emit_energy(&mut self, c: usize, terms: &EnergyTerms) {
+        if let Some(e) = self.energy.as_deref_mut() {
+            e[c] = *terms;
+        }
     }
     #[inline(always)]
     fn emit(&mut self, c: usize, l: &PairLoads) {

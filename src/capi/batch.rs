@@ -15,7 +15,7 @@
 //! inlined into them whole.
 #![allow(non_camel_case_types)]
 
-use super::contact::rsl_contact_state;
+use super::contact::{rsl_contact_energy, rsl_contact_state};
 use super::decompose::{parse_options, rsl_decompose_options};
 use super::history::Record;
 use super::indexed::IndexedGroups;
@@ -34,9 +34,9 @@ use crate::batch::GroupCopy;
 use crate::batch::{
     check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
     AddSlot, BatchReport, ContactDecompose, ContactStates, ContactSteps, DecomposeAccess,
-    DecompositionSlot, Gather, IndexedStates, LoadsSlot, Materials, ModelSliding, PairLoads,
-    ParticleDecompose, ParticleSteps, PortableCopy, SlidingOverrides, SlidingSource, SphereSlot,
-    StateSlot, StepAccess,
+    DecompositionSlot, EnergyTerms, Gather, IndexedStates, LoadsSlot, Materials, ModelSliding,
+    PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, SlidingOverrides, SlidingSource,
+    SphereSlot, StateSlot, StepAccess,
 };
 use crate::decompose::{Decomposition, Parts, Sphere};
 use crate::error::Error;
@@ -853,8 +853,8 @@ unsafe fn stiffness_in<'a>(
     }
 }
 
-/// Borrows the per-contact sliding coefficients of a `*_params` call (`params` NULL, or each of
-/// its arrays NULL or holding `n` values).
+/// The per-contact coefficients of a `*_params` call (`params` NULL, or each of its arrays NULL
+/// or holding `n` values): the arrays, and the model's table of material pairs for `material`.
 ///
 /// # Safety
 /// `params` NULL or readable; its non-NULL arrays hold `n` values.
@@ -890,6 +890,56 @@ unsafe fn sliding_in<'a>(
         materials,
     })
 }
+
+/// The energy output of a `*_params` call (`params.energy`, NULL or `n` writable structs),
+/// which needs a model that tracks energy (`track_energy`).
+///
+/// # Safety
+/// `params` NULL or readable; a non-NULL `energy` holds `n` writable structs that overlap no
+/// other array of the call.
+unsafe fn energy_in<'e>(
+    track_energy: bool,
+    params: *const rsl_batch_contact_params,
+    n: usize,
+) -> Result<Option<&'e mut [EnergyTerms]>, FfiError> {
+    // SAFETY: forwarded contract; `optional_input` checks NULL and alignment.
+    let Some(p) = (unsafe { optional_input(params, "params")? }) else {
+        return Ok(None);
+    };
+    if p.energy.is_null() {
+        return Ok(None);
+    }
+    if !track_energy {
+        return Err(FfiError::Core(Error::InvalidArgument(
+            "params.energy needs a model that tracks energy (rsl_model_set_energy_tracking)"
+                .to_string(),
+        )));
+    }
+    // SAFETY: forwarded contract: a non-NULL `energy` holds `n` writable structs.
+    let structs: &'e mut [rsl_contact_energy] = unsafe { slice_out(p.energy, n, "params.energy")? };
+    // SAFETY: `rsl_contact_energy` is `repr(C)` with ten `f64` fields and nothing else
+    // (asserted below), so it has the size, alignment and layout of `[f64; 10]`, in the order
+    // of `EnergyTerms`; the slice keeps the borrow of `structs`.
+    Ok(Some(unsafe {
+        std::slice::from_raw_parts_mut(structs.as_mut_ptr().cast::<EnergyTerms>(), n)
+    }))
+}
+
+// `rsl_contact_energy` is ten doubles in the order of `EnergyTerms` (the cast in `energy_in`).
+const _: () = {
+    assert!(size_of::<rsl_contact_energy>() == size_of::<EnergyTerms>());
+    assert!(align_of::<rsl_contact_energy>() == align_of::<EnergyTerms>());
+    assert!(std::mem::offset_of!(rsl_contact_energy, elastic_sliding) == 0);
+    assert!(std::mem::offset_of!(rsl_contact_energy, elastic_rolling) == 8);
+    assert!(std::mem::offset_of!(rsl_contact_energy, elastic_twisting) == 16);
+    assert!(std::mem::offset_of!(rsl_contact_energy, dashpot_sliding) == 24);
+    assert!(std::mem::offset_of!(rsl_contact_energy, dashpot_rolling) == 32);
+    assert!(std::mem::offset_of!(rsl_contact_energy, dashpot_twisting) == 40);
+    assert!(std::mem::offset_of!(rsl_contact_energy, slider_sliding) == 48);
+    assert!(std::mem::offset_of!(rsl_contact_energy, slider_rolling) == 56);
+    assert!(std::mem::offset_of!(rsl_contact_energy, slider_twisting) == 64);
+    assert!(std::mem::offset_of!(rsl_contact_energy, transport) == 72);
+};
 
 /// The checked arguments of a particle-major step call, but its per-contact histories.
 struct ParticleArgs<'a> {
@@ -1116,22 +1166,27 @@ unsafe fn particle_call<St: ContactStates<Slot = rsl_contact_state>>(
             let states = states()?;
             // SAFETY: as above.
             let sliding = unsafe { sliding_in(a.model, params, n_contacts)? };
-            Ok((a, states, sliding))
+            // SAFETY: as above.
+            let energy = unsafe { energy_in(a.model.model.track_energy, params, n_contacts)? };
+            Ok((a, states, sliding, energy))
         })();
         match result {
             Err(e) => refuse(report, e),
-            Ok((a, states, sliding)) => step_particles(a, states, sliding, dt, report),
+            Ok((a, states, sliding, energy)) => {
+                step_particles(a, states, sliding, energy, dt, report)
+            }
         }
     })
 }
 
-/// Steps the checked arguments of a particle-major call with the states `states` and the
-/// per-contact coefficients `sliding` (the model's kernels when it has none), and fills the
-/// report.
+/// Steps the checked arguments of a particle-major call with the states `states`, the
+/// per-contact coefficients `sliding` (the model's kernels when it has none) and the energy
+/// output `energy`, and fills the report.
 fn step_particles<St: ContactStates<Slot = rsl_contact_state>>(
     a: ParticleArgs<'_>,
     states: St,
     sliding: SlidingOverrides<'_>,
+    energy: Option<&mut [EnergyTerms]>,
     dt: f64,
     report: Option<&mut rsl_batch_report>,
 ) -> Result<(), FfiError> {
@@ -1140,6 +1195,7 @@ fn step_particles<St: ContactStates<Slot = rsl_contact_state>>(
         a: ParticleArgs<'_>,
         states: St,
         sliding: O,
+        energy: Option<&mut [EnergyTerms]>,
         dt: f64,
     ) -> Result<BatchReport, FfiError> {
         let mut access = ParticleSteps {
@@ -1151,6 +1207,7 @@ fn step_particles<St: ContactStates<Slot = rsl_contact_state>>(
             force: a.force,
             torque: a.torque,
             sliding,
+            energy,
         };
         access.check()?;
         Ok(run_step(&a.model.model, dt, &mut access, a.config)?)
@@ -1160,9 +1217,9 @@ fn step_particles<St: ContactStates<Slot = rsl_contact_state>>(
         && sliding.damping.is_none()
         && sliding.materials.is_none()
     {
-        run(a, states, ModelSliding, dt)
+        run(a, states, ModelSliding, energy, dt)
     } else {
-        run(a, states, sliding, dt)
+        run(a, states, sliding, energy, dt)
     };
     match stepped {
         Err(e) => refuse(report, e),
@@ -1409,6 +1466,7 @@ pub unsafe extern "C" fn rsl_batch_step_history(
                         force,
                         torque,
                         sliding: ModelSliding,
+                        energy: None,
                     };
                     access.check()?;
                     run_history_step(model, dt, &mut access, config)
@@ -1463,6 +1521,11 @@ pub struct rsl_batch_contact_params {
     pub sliding_damping: *const f64,
     /// Material pair per contact (an index into the model's table), or NULL.
     pub material: *const u32,
+    /// Output, or NULL: each stepped contact's energy terms (`rsl_contact_energy`, as
+    /// `rsl_contact_step` returns them; one per contact in contact order), for a model that
+    /// tracks energy (`rsl_model_set_energy_tracking`; `RSL_ERR_INVALID_ARGUMENT` otherwise).
+    /// A skipped contact's entry is not written. Must not overlap any other array of the call.
+    pub energy: *mut rsl_contact_energy,
 }
 
 /// Steps many sphere-sphere contacts (contact-major): contact `c` is `body1[c]`, `body2[c]`,
@@ -1550,6 +1613,8 @@ pub unsafe extern "C" fn rsl_batch_step_contacts_params(
             let k_n = unsafe { stiffness_in(m, normal_stiffness, n)? };
             // SAFETY: as above.
             let sliding = unsafe { sliding_in(m, params, n)? };
+            // SAFETY: as above.
+            let energy = unsafe { energy_in(m.model.track_energy, params, n)? };
             let config = BatchConfig::from_options(opts)?;
             let access = ContactSteps {
                 body1,
@@ -1559,6 +1624,7 @@ pub unsafe extern "C" fn rsl_batch_step_contacts_params(
                 states,
                 out,
                 sliding,
+                energy,
             };
             access.check()?;
             Ok((m, access, config))

@@ -13,9 +13,9 @@ pub mod history;
 pub mod indexed;
 #[cfg(target_arch = "x86_64")]
 mod lanes_x86;
-#[cfg(test)]
-mod materials_tests;
 pub mod model;
+#[cfg(test)]
+mod params_tests;
 pub mod status;
 #[cfg(target_arch = "x86_64")]
 mod transpose;

@@ -1,8 +1,11 @@
-//! Mixed materials through the C entry points: a model's table of coefficient sets
-//! (`rsl_model_set_materials`) and each contact's index into it
-//! (`rsl_batch_contact_params.material`) give every contact the bits of `rsl_contact_step` with
-//! its set's model, at every SIMD level, in all three calls that take the parameters; a bad
-//! index is refused as a bad particle index is, with nothing written.
+//! The per-contact parameters of the batch calls (`rsl_batch_contact_params`), through the C
+//! entry points, at every SIMD level, in all three calls that take them:
+//! - mixed materials: a model's table of coefficient sets (`rsl_model_set_materials`) and each
+//!   contact's index into it (`material`) give every contact the bits of `rsl_contact_step`
+//!   with its set's model; a bad index is refused as a bad particle index is, nothing written;
+//! - the energy output (`energy`): each stepped contact's terms, bit for bit those of
+//!   `rsl_contact_step`; a skipped contact's entry untouched; refused for a model that does not
+//!   track energy.
 
 use super::batch::{
     rsl_batch_contact_params, rsl_batch_loads, rsl_batch_options, rsl_batch_report,
@@ -10,7 +13,7 @@ use super::batch::{
     RSL_PRECISION_F64, RSL_SIMD_AVX2, RSL_SIMD_AVX512, RSL_SIMD_SCALAR,
 };
 use super::contact::{
-    rsl_contact_input, rsl_contact_loads, rsl_contact_state, rsl_contact_step,
+    rsl_contact_energy, rsl_contact_input, rsl_contact_loads, rsl_contact_state, rsl_contact_step,
     RSL_INPUT_SLIDING_STIFFNESS,
 };
 use super::model::{
@@ -261,6 +264,7 @@ fn each_contact_steps_as_its_material_pairs_model_bit_for_bit() {
                 },
                 sliding_damping: std::ptr::null(),
                 material: material.as_ptr(),
+                energy: std::ptr::null_mut(),
             };
             for o in levels() {
                 let what = format!("{base:?} k_t {with_k_t} {o:?}");
@@ -484,4 +488,190 @@ fn a_table_takes_sets_of_the_models_laws_only_and_setters_keep_it_for_values() {
         RSL_OK
     );
     assert_eq!(count(&model), 0);
+}
+
+fn energy_bits(e: &rsl_contact_energy) -> [u64; 10] {
+    [
+        e.elastic_sliding,
+        e.elastic_rolling,
+        e.elastic_twisting,
+        e.dashpot_sliding,
+        e.dashpot_rolling,
+        e.dashpot_twisting,
+        e.slider_sliding,
+        e.slider_rolling,
+        e.slider_twisting,
+        e.transport,
+    ]
+    .map(f64::to_bits)
+}
+
+#[test]
+fn the_batch_calls_return_each_contacts_energy_terms_bit_for_bit() {
+    let mut rng = Lcg(5);
+    let n = 75;
+    for base in base_models() {
+        let mut tracked = base;
+        tracked.track_energy = true;
+        let model = rsl_model::live(tracked);
+        let mut c = contacts(n, &mut rng);
+        // One contact with a non-finite normal force: skipped, its entry untouched.
+        let skipped = 40;
+        c.f_n[skipped] = f64::NAN;
+        let want: Vec<_> = (0..n).map(|i| reference(&model, &c, i, None)).collect();
+        let sentinel = rsl_contact_energy {
+            transport: 99.0,
+            ..Default::default()
+        };
+        for o in levels() {
+            let what = format!("{base:?} {o:?}");
+            let np = c.particles.len();
+            // Particle-major.
+            let mut energy = vec![sentinel; n];
+            let params = rsl_batch_contact_params {
+                sliding_stiffness: std::ptr::null(),
+                sliding_damping: std::ptr::null(),
+                material: std::ptr::null(),
+                energy: energy.as_mut_ptr(),
+            };
+            let mut states = c.states.clone();
+            let (mut force, mut torque) =
+                (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+            let mut report = rsl_batch_report::default();
+            // SAFETY: every array holds what the call reads or writes; none overlap.
+            let status = unsafe {
+                rsl_batch_step_params(
+                    &model,
+                    c.particles.as_ptr(),
+                    np,
+                    c.pairs.as_ptr(),
+                    n,
+                    c.f_n.as_ptr(),
+                    c.k_n.as_ptr(),
+                    &params,
+                    1e-4,
+                    &o,
+                    states.as_mut_ptr(),
+                    force.as_mut_ptr(),
+                    torque.as_mut_ptr(),
+                    &mut report,
+                )
+            };
+            assert_eq!(want[skipped].0, status, "{what}");
+            assert_eq!((report.failed, report.first_failed), (1, skipped as u64));
+            for i in 0..n {
+                if i == skipped {
+                    assert_eq!(energy_bits(&energy[i]), energy_bits(&sentinel), "{what}");
+                } else {
+                    assert_eq!(want[i].0, RSL_OK);
+                    let e = &want[i].1.energy;
+                    assert_eq!(energy_bits(&energy[i]), energy_bits(e), "{what}: {i}");
+                }
+            }
+            // The terms are not all zero: the laws store and dissipate energy.
+            assert!(energy
+                .iter()
+                .any(|e| e.elastic_sliding > 0.0 || e.slider_rolling > 0.0));
+            // Histories where the host keeps them.
+            let mut energy2 = vec![sentinel; n];
+            let params2 = rsl_batch_contact_params {
+                energy: energy2.as_mut_ptr(),
+                ..params
+            };
+            let mut slots = c.states.clone();
+            let index: Vec<usize> = (0..n).collect();
+            let (mut force2, mut torque2) =
+                (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+            // SAFETY: as above.
+            unsafe {
+                rsl_batch_step_indexed(
+                    &model,
+                    c.particles.as_ptr(),
+                    np,
+                    c.pairs.as_ptr(),
+                    n,
+                    c.f_n.as_ptr(),
+                    c.k_n.as_ptr(),
+                    &params2,
+                    1e-4,
+                    &o,
+                    slots.as_mut_ptr(),
+                    n,
+                    index.as_ptr(),
+                    force2.as_mut_ptr(),
+                    torque2.as_mut_ptr(),
+                    &mut report,
+                )
+            };
+            let all = |v: &[rsl_contact_energy]| v.iter().map(energy_bits).collect::<Vec<_>>();
+            assert_eq!(all(&energy2), all(&energy), "{what}: indexed");
+            // Contact-major.
+            let mut energy3 = vec![sentinel; n];
+            let params3 = rsl_batch_contact_params {
+                energy: energy3.as_mut_ptr(),
+                ..params
+            };
+            let body1: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i]).collect();
+            let body2: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i + 1]).collect();
+            let mut states = c.states.clone();
+            let mut out = vec![rsl_batch_loads::default(); n];
+            // SAFETY: every array holds `n` elements; none overlap.
+            unsafe {
+                rsl_batch_step_contacts_params(
+                    &model,
+                    body1.as_ptr(),
+                    body2.as_ptr(),
+                    n,
+                    c.f_n.as_ptr(),
+                    c.k_n.as_ptr(),
+                    &params3,
+                    1e-4,
+                    &o,
+                    states.as_mut_ptr(),
+                    out.as_mut_ptr(),
+                    &mut report,
+                )
+            };
+            assert_eq!(all(&energy3), all(&energy), "{what}: contact-major");
+        }
+        // A model that does not track energy: refused, nothing processed or written.
+        let plain = rsl_model::live(base);
+        let mut energy = vec![sentinel; n];
+        let params = rsl_batch_contact_params {
+            sliding_stiffness: std::ptr::null(),
+            sliding_damping: std::ptr::null(),
+            material: std::ptr::null(),
+            energy: energy.as_mut_ptr(),
+        };
+        let np = c.particles.len();
+        let mut states = c.states.clone();
+        let (mut force, mut torque) =
+            (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+        let mut report = rsl_batch_report::default();
+        // SAFETY: as above.
+        let status = unsafe {
+            rsl_batch_step_params(
+                &plain,
+                c.particles.as_ptr(),
+                np,
+                c.pairs.as_ptr(),
+                n,
+                c.f_n.as_ptr(),
+                c.k_n.as_ptr(),
+                &params,
+                1e-4,
+                std::ptr::null(),
+                states.as_mut_ptr(),
+                force.as_mut_ptr(),
+                torque.as_mut_ptr(),
+                &mut report,
+            )
+        };
+        assert_eq!(status, RSL_ERR_INVALID_ARGUMENT);
+        assert_eq!((report.processed, report.failed), (0, 0));
+        assert!(energy
+            .iter()
+            .all(|e| energy_bits(e) == energy_bits(&sentinel)));
+        assert!(force.iter().all(|f| bits(f) == [0; 3]));
+    }
 }
