@@ -48,12 +48,11 @@
  * Physics sets (each compared with its own hand-written baseline; the library model is the
  * LAMMPS_2021 preset with the laws below; parameters KT..MUTW):
  *   full       linear-history sliding + rolling sds (EPSD, given k_r, gamma_r, mu_r) +
- *              twisting sds (library scene full/lammps)
- *   rolltwist  rolling sds + twisting sds, sliding law RSL_SLIDING_NONE (library scene
- *              roll+twist/lammps; the info line scene_kernel says which ran). Force on body 1
- *              is -f_n n; torques only from rolling and twisting; the sliding spring is left
- *              as it was.
- *   sliding    linear-history sliding only (library scene sliding/lammps)
+ *              twisting sds
+ *   rolltwist  rolling sds + twisting sds, sliding law RSL_SLIDING_NONE. Force on body 1 is
+ *              -f_n n; torques only from rolling and twisting; the sliding spring is left as it
+ *              was.
+ *   sliding    linear-history sliding only
  *
  * Rows (one output line each: "row GROUP NAME NS_PER_CONTACT LOADS_DIFF STATE_DIFF FLAGS"). The
  * rows of a physics set (GROUP) are measured together, after their floor and baseline, so
@@ -113,35 +112,43 @@
  *                   no-slip histories (the same springs, those beyond a limit scaled below it:
  *                   no clip taken, the scalar baselines' best case); compared with
  *                   baseline_c[noslip]
- *   batch_f64_<l>[SCENE]  workload A only: rsl_batch_step of the other scenes at each level,
- *                   f64: full/exact, slide+roll/exact, generic(full/lammps),
- *                   slide+roll/lammps, generic(slide+roll/lammps), full/lammps+marshall
- *                   (twisting marshall), generic(full/lammps+marshall), full/exact+marshall,
- *                   generic(full/exact+marshall), slide+twist/lammps (no rolling law),
- *                   generic(slide+twist/lammps), slide+twist/exact,
- *                   generic(slide+twist/exact), slide+cdt/liggghts (LIGGGHTS_3_8 preset:
- *                   linear sliding + cdt rolling on k_n delta, k_n passed per contact),
- *                   generic(slide+cdt/liggghts), slide+epsd2/liggghts (LIGGGHTS_3_8 preset:
- *                   linear sliding + EPSD rolling with LIGGGHTS' epsd2 stiffness k_t R^2, the
- *                   length form, no rolling dashpot), generic(slide+epsd2/liggghts) (group
- *                   full),
- *                   roll+twist/exact, generic(rolltwist), roll/exact, roll/lammps (rolling
- *                   only: no twisting law), generic(roll/lammps), twist/lammps (twisting
- *                   only: no sliding or rolling law), generic(twist/lammps), twist/exact,
- *                   generic(twist/exact) (group rolltwist),
- *                   sliding/exact,
- *                   generic(sliding) (group sliding), and generic(S) for each exact scene S.
- *                   The exact scenes are the OBJECTIVE preset (exact rotation transport,
- *                   midplane branches): not the baseline's physics. generic(X) is the model
- *                   of X with RSL_BATCH_GENERIC (the run-time-decision kernel).
- *   percontact_acc_c[SCENE]  workload A only: rsl_contact_step_accumulate per contact on the
- *                   model of each of those scenes (not the generic(X) ones: the per-contact call
- *                   has no such switch), k_n passed per contact.
+ *   batch_f64_<l>[LAWS]  workload A only: rsl_batch_step of other law sets at each level, f64
+ *                   (every model runs the same kernel, which takes its law decisions at run
+ *                   time): full/exact, slide+roll/exact, slide+roll/lammps,
+ *                   full/lammps+marshall (twisting marshall), full/exact+marshall,
+ *                   slide+twist/lammps (no rolling law), slide+twist/exact, slide+cdt/liggghts
+ *                   (LIGGGHTS_3_8 preset: linear sliding + cdt rolling on k_n delta, k_n passed
+ *                   per contact), slide+epsd2/liggghts (LIGGGHTS_3_8 preset: linear sliding +
+ *                   EPSD rolling with LIGGGHTS' epsd2 stiffness k_t R^2, the length form, no
+ *                   rolling dashpot) (group full),
+ *                   roll+twist/exact, roll/exact, roll/lammps (rolling only: no twisting law),
+ *                   twist/lammps (twisting only: no sliding or rolling law), twist/exact
+ *                   (group rolltwist),
+ *                   sliding/exact (group sliding).
+ *                   The exact sets are the OBJECTIVE preset (exact rotation transport,
+ *                   midplane branches). None is the baseline's physics: their rows are not
+ *                   compared ("-"), the ratios give their cost only.
+ *   percontact_acc_c[LAWS]  workload A only: rsl_contact_step_accumulate per contact on the
+ *                   model of each of those law sets, k_n passed per contact.
+ *   materials<N>_f64_<l>  group full, both workloads, each level: mixed materials, the full
+ *                   set's contacts through rsl_batch_step_params with a table of N = 1, 3 or 10
+ *                   coefficient sets (rsl_model_set_materials) and each contact's index into it
+ *                   (rsl_batch_contact_params.material), as a host with 1, 2 or 4 atom types
+ *                   and one set per unordered type pair (LAMMPS' pair_coeff) steps them: each
+ *                   particle gets a random type, a contact the set of its two types' pair, so
+ *                   the sets interleave along the contact list ("info materials<N>" gives the
+ *                   fraction of contacts per set). Set 0 is the full set's own model; the
+ *                   others scale each of its nine coefficients (k_t, gamma_t, mu, k_r, gamma_r,
+ *                   mu_r, k_tw, gamma_tw, mu_tw) by a factor in [0.5, 2) ("info materials"
+ *                   lists them; set k is the same in every table). materials1 has the
+ *                   baseline's physics (compared: diff 0 expected); materials3 and materials10
+ *                   do not (not compared, "-"): set against materials1 and batch_f64_<l> they
+ *                   give the cost of the per-contact coefficients.
  * LOADS_DIFF: max |difference| of the accumulated forces and torques from the set's baseline,
  * relative to the largest baseline force (torque) component; STATE_DIFF: the same for the
  * springs, twisting angle and normal of the states after the call; FLAGS: number of contacts
  * whose slip flags differ from the baseline's. "-": not compared (floors; other physics).
- * "info" lines describe the run (workload, sizes, SIMD levels, scene kernel of each model).
+ * "info" lines describe the run (workload, sizes, SIMD levels, fractions at each limit).
  */
 #include <math.h>
 #include <stdint.h>
@@ -473,7 +480,7 @@ static void finish(scene *s) {
 }
 
 static rsl_model *MODEL; /* the model of the current measurement */
-enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE, HISTORY, INDEXED };
+enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE, HISTORY, INDEXED, MATERIALS };
 static int MODE;
 /* Packed histories of the history_* rows (rsl_batch_step_history): HWORDS doubles per contact,
  * room for 13. */
@@ -863,7 +870,7 @@ static void accumulate_or_die(const scene *s, size_t c, const rsl_sphere *b1,
 }
 
 /* percontact_acc with the per-contact k_n (s->kn) in the input, which the models of the other
- * scenes may read (LIGGGHTS' cdt): the rows percontact_acc_c[SCENE]. */
+ * law sets may read (LIGGGHTS' cdt): the rows percontact_acc_c[LAWS]. */
 static void percontact_acc_kn(scene *s) {
     rsl_contact_input in;
     memset(&in, 0, sizeof in);
@@ -919,10 +926,17 @@ static void percontact_acc(scene *s) {
 
 static rsl_batch_options OPTS;
 static rsl_batch_report REP; /* report of the last batch call */
+/* Per-contact parameters of the materials* rows (MODE MATERIALS: rsl_batch_step_params with
+ * PARAMS.material, each contact's index into MODEL's table of coefficient sets). */
+static rsl_batch_contact_params PARAMS;
 static void batch(scene *s) {
     int32_t status;
     const char *what;
-    if (MODE == HISTORY) {
+    if (MODE == MATERIALS) {
+        what = "rsl_batch_step_params";
+        status = rsl_batch_step_params(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, s->kn,
+                                       &PARAMS, DT, &OPTS, s->st, s->f, s->t, &REP);
+    } else if (MODE == HISTORY) {
         what = "rsl_batch_step_history";
         status = rsl_batch_step_history(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, s->kn, DT,
                                         &OPTS, HIST, s->f, s->t, &REP);
@@ -944,9 +958,9 @@ static void batch(scene *s) {
     }
     if (status != RSL_OK) {
         fprintf(stderr,
-                "%s failed (precision %u, simd %u, flags %u): %s (%s); processed %llu, failed "
-                "%llu, first failed %llu\n",
-                what, OPTS.precision, OPTS.simd, OPTS.flags, rsl_status_str(status),
+                "%s failed (precision %u, simd %u): %s (%s); processed %llu, failed %llu, "
+                "first failed %llu\n",
+                what, OPTS.precision, OPTS.simd, rsl_status_str(status),
                 rsl_last_error_message(), (unsigned long long)REP.processed,
                 (unsigned long long)REP.failed, (unsigned long long)REP.first_failed);
         exit(1);
@@ -1209,6 +1223,87 @@ static rsl_model *make_epsd2_model(void) {
     return m;
 }
 
+/* ---- mixed materials (the materials<N>_* rows) ---- */
+
+/* Tables of NMAT_TYPES[k] particle types, one coefficient set per unordered pair of types:
+ * 1, 3 and 10 sets (LAMMPS' pair_coeff per type pair). */
+enum { NMAT = 3, MAXSETS = 10 };
+static const unsigned NMAT_TYPES[NMAT] = {1, 2, 4};
+
+/* Scale factors of the nine coefficients (k_t, gamma_t, mu, k_r, gamma_r, mu_r, k_tw, gamma_tw,
+ * mu_tw) of each material set: set 0 all 1 (the full set's own model), the others drawn in
+ * [0.5, 2) (log-uniform) from a generator of their own, so that the scene's draws are those of
+ * the other rows. Set k is the same in every table. */
+static double MAT_SCALE[MAXSETS][9];
+static uint64_t mat_rng = 987654321;
+static double mat_urand(void) {
+    mat_rng = mat_rng * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(mat_rng >> 11) / 9007199254740992.0;
+}
+
+/* The full set's model (LAMMPS_2021: linear-history sliding, rolling sds, twisting sds) with
+ * its coefficients scaled by f. */
+static rsl_model *make_full_scaled(const double f[9]) {
+    rsl_model *m = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 1);
+    check(rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, KT * f[0], GT * f[1], MU * f[2]),
+          "rsl_model_set_sliding(material)");
+    rsl_rolling_params rp;
+    check(rsl_model_get_rolling(m, &rp), "rsl_model_get_rolling");
+    rp.stiffness = KR * f[3];
+    rp.damping = GR * f[4];
+    rp.friction = MUR * f[5];
+    check(rsl_model_set_rolling(m, &rp), "rsl_model_set_rolling(material)");
+    check(rsl_model_set_twisting(m, RSL_TWISTING_SDS, KTW * f[6], GTW * f[7], MUTW * f[8]),
+          "rsl_model_set_twisting(material)");
+    return m;
+}
+
+/* A model of the full set (its own coefficients: set 0) with a table of `n` material sets. */
+static rsl_model *make_material_model(size_t n) {
+    rsl_model *sets[MAXSETS];
+    for (size_t k = 0; k < n; k++)
+        sets[k] = k == 0 ? make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 1)
+                         : make_full_scaled(MAT_SCALE[k]);
+    rsl_model *m = make_model(RSL_PRESET_LAMMPS_2021, 1, 1, 1);
+    check(rsl_model_set_materials(m, (const rsl_model *const *)sets, n),
+          "rsl_model_set_materials");
+    size_t count = 0;
+    check(rsl_model_material_count(m, &count), "rsl_model_material_count");
+    if (count != n) {
+        fprintf(stderr, "rsl_model_material_count: %zu sets, expected %zu\n", count, n);
+        exit(1);
+    }
+    for (size_t k = 0; k < n; k++) rsl_model_free(sets[k]);
+    return m;
+}
+
+/* Each contact's material set for a table of `types` particle types: every particle gets a
+ * random type (the types interleaved along the particle ids, as a random mixture), a contact
+ * the set of the unordered pair of its particles' types (a <= b: a * types - a (a - 1) / 2 +
+ * b - a). *nsets: types (types + 1) / 2; counts[k]: contacts of set k. */
+static uint32_t *material_indices(const scene *s, unsigned types, size_t *nsets,
+                                  size_t counts[MAXSETS]) {
+    unsigned *type = xmalloc(s->np * sizeof *type);
+    for (size_t i = 0; i < s->np; i++) {
+        type[i] = (unsigned)(mat_urand() * types);
+        if (type[i] >= types) type[i] = types - 1;
+    }
+    uint32_t *mat = xmalloc((s->nc ? s->nc : 1) * sizeof *mat);
+    memset(counts, 0, MAXSETS * sizeof *counts);
+    for (size_t c = 0; c < s->nc; c++) {
+        unsigned a = type[s->pairs[2 * c]], b = type[s->pairs[2 * c + 1]];
+        if (a > b) {
+            unsigned t = a;
+            a = b, b = t;
+        }
+        mat[c] = a * types - a * (a - 1) / 2 + (b - a);
+        counts[mat[c]]++;
+    }
+    free(type);
+    *nsets = (size_t)types * (types + 1) / 2;
+    return mat;
+}
+
 static const char *LEVEL[4] = {"auto", "scalar", "avx2", "avx512"};
 /* --level=NAME: the SIMD level of the rows that otherwise run at the best one. */
 static uint32_t BEST_LEVEL = RSL_SIMD_AUTO;
@@ -1285,7 +1380,7 @@ int main(int argc, char **argv) {
         if ((simd >> lv) & 1) printf(" %s", LEVEL[lv]);
     printf("\n");
 
-    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 33 };
+    enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 15 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
@@ -1312,60 +1407,29 @@ int main(int argc, char **argv) {
               *twist_exact = make_model(RSL_PRESET_OBJECTIVE, 0, 0, 1),
               *slide_twist_exact = make_model(RSL_PRESET_OBJECTIVE, 1, 0, 1),
               *slide_cdt_liggghts = make_cdt_model(), *slide_epsd2_liggghts = make_epsd2_model();
-    /* other scenes (workload A), each in the group whose floor and baseline it is set against;
-     * generic(X): the same model forced onto the generic kernel (RSL_BATCH_GENERIC) */
+    /* other law sets (workload A), each in the group whose floor and baseline it is set
+     * against */
     struct {
         const char *name;
         rsl_model *model;
-        uint32_t flags;
         int group;
     } extra[NEXTRA] = {
-        {"full/exact", full_exact, 0, FULL},
-        {"generic(full/exact)", full_exact, RSL_BATCH_GENERIC, FULL},
-        {"slide+roll/exact", slide_roll_exact, 0, FULL},
-        {"generic(slide+roll/exact)", slide_roll_exact, RSL_BATCH_GENERIC, FULL},
-        {"generic(full/lammps)", set_model[FULL], RSL_BATCH_GENERIC, FULL},
-        {"slide+roll/lammps", slide_roll_lammps, 0, FULL},
-        {"generic(slide+roll/lammps)", slide_roll_lammps, RSL_BATCH_GENERIC, FULL},
-        {"full/lammps+marshall", full_lammps_marshall, 0, FULL},
-        {"generic(full/lammps+marshall)", full_lammps_marshall, RSL_BATCH_GENERIC, FULL},
-        {"full/exact+marshall", full_exact_marshall, 0, FULL},
-        {"generic(full/exact+marshall)", full_exact_marshall, RSL_BATCH_GENERIC, FULL},
-        {"slide+twist/lammps", slide_twist_lammps, 0, FULL},
-        {"generic(slide+twist/lammps)", slide_twist_lammps, RSL_BATCH_GENERIC, FULL},
-        {"slide+twist/exact", slide_twist_exact, 0, FULL},
-        {"generic(slide+twist/exact)", slide_twist_exact, RSL_BATCH_GENERIC, FULL},
-        {"slide+cdt/liggghts", slide_cdt_liggghts, 0, FULL},
-        {"generic(slide+cdt/liggghts)", slide_cdt_liggghts, RSL_BATCH_GENERIC, FULL},
-        {"slide+epsd2/liggghts", slide_epsd2_liggghts, 0, FULL},
-        {"generic(slide+epsd2/liggghts)", slide_epsd2_liggghts, RSL_BATCH_GENERIC, FULL},
-        {"roll+twist/exact", roll_twist_exact, 0, ROLLTWIST},
-        {"generic(roll+twist/exact)", roll_twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
-        {"generic(rolltwist)", set_model[ROLLTWIST], RSL_BATCH_GENERIC, ROLLTWIST},
-        {"roll/exact", roll_exact, 0, ROLLTWIST},
-        {"generic(roll/exact)", roll_exact, RSL_BATCH_GENERIC, ROLLTWIST},
-        {"roll/lammps", roll_lammps, 0, ROLLTWIST},
-        {"generic(roll/lammps)", roll_lammps, RSL_BATCH_GENERIC, ROLLTWIST},
-        {"twist/lammps", twist_lammps, 0, ROLLTWIST},
-        {"generic(twist/lammps)", twist_lammps, RSL_BATCH_GENERIC, ROLLTWIST},
-        {"twist/exact", twist_exact, 0, ROLLTWIST},
-        {"generic(twist/exact)", twist_exact, RSL_BATCH_GENERIC, ROLLTWIST},
-        {"sliding/exact", sliding_exact, 0, SLIDING},
-        {"generic(sliding/exact)", sliding_exact, RSL_BATCH_GENERIC, SLIDING},
-        {"generic(sliding)", set_model[SLIDING], RSL_BATCH_GENERIC, SLIDING},
+        {"full/exact", full_exact, FULL},
+        {"slide+roll/exact", slide_roll_exact, FULL},
+        {"slide+roll/lammps", slide_roll_lammps, FULL},
+        {"full/lammps+marshall", full_lammps_marshall, FULL},
+        {"full/exact+marshall", full_exact_marshall, FULL},
+        {"slide+twist/lammps", slide_twist_lammps, FULL},
+        {"slide+twist/exact", slide_twist_exact, FULL},
+        {"slide+cdt/liggghts", slide_cdt_liggghts, FULL},
+        {"slide+epsd2/liggghts", slide_epsd2_liggghts, FULL},
+        {"roll+twist/exact", roll_twist_exact, ROLLTWIST},
+        {"roll/exact", roll_exact, ROLLTWIST},
+        {"roll/lammps", roll_lammps, ROLLTWIST},
+        {"twist/lammps", twist_lammps, ROLLTWIST},
+        {"twist/exact", twist_exact, ROLLTWIST},
+        {"sliding/exact", sliding_exact, SLIDING},
     };
-    printf("info scene_kernel");
-    for (int k = 0; k < NSETS; k++) {
-        uint32_t sc = 99;
-        check(rsl_batch_scene(set_model[k], &sc), "rsl_batch_scene");
-        printf(" %s=%u", set_name[k], sc);
-    }
-    for (int k = 0; k < NEXTRA; k++) {
-        uint32_t sc = 99;
-        check(rsl_batch_scene(extra[k].model, &sc), "rsl_batch_scene");
-        printf(" %s=%u", extra[k].name, extra[k].flags ? 0 : sc);
-    }
-    printf(" (codes of rsl_batch_scene; 0: generic)\n");
     fflush(stdout);
 
     REF_F = xmalloc(s.np * sizeof *REF_F);
@@ -1451,7 +1515,7 @@ int main(int argc, char **argv) {
             }
             MODE = PARTICLE_MAJOR;
         }
-        /* decomposition and the other scenes: f64, in the group they are set against */
+        /* decomposition: f64 and f32, in group full */
         if (set == FULL) {
             memset(&OPTS, 0, sizeof OPTS);
             OPTS.simd = BEST_LEVEL;
@@ -1468,13 +1532,12 @@ int main(int argc, char **argv) {
                 MODE = PARTICLE_MAJOR;
             }
         }
-        /* the other scenes (workload A), before the no-slip rows replace the reference */
+        /* the other law sets (workload A), before the no-slip rows replace the reference */
         if (workload == 'A') {
             for (int k = 0; k < NEXTRA; k++) {
                 if (extra[k].group != set) continue;
                 memset(&OPTS, 0, sizeof OPTS);
                 OPTS.precision = RSL_PRECISION_F64;
-                OPTS.flags = extra[k].flags;
                 MODEL = extra[k].model;
                 MODE = PARTICLE_MAJOR;
                 for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
@@ -1483,13 +1546,61 @@ int main(int argc, char **argv) {
                     snprintf(name, sizeof name, "batch_f64_%s[%s]", LEVEL[lv], extra[k].name);
                     if (!want(name)) continue;
                     double t = timeit(&s, batch, reps);
-                    /* the generic kernel of the full set has the baseline's physics */
-                    row(g, name, t, extra[k].model == set_model[set], &s);
+                    /* other physics than the baseline's: not compared */
+                    row(g, name, t, 0, &s);
                 }
-                /* the per-contact call on the scene's model (it has no generic switch) */
+                /* the per-contact call on the same model */
                 snprintf(name, sizeof name, "percontact_acc_c[%s]", extra[k].name);
-                if (!extra[k].flags && want(name))
+                if (want(name))
                     row(g, name, timeit(&s, percontact_acc_kn, reps), 0, &s);
+            }
+        }
+        /* mixed materials (group full, both workloads): the full set's contacts through
+         * rsl_batch_step_params with a table of 1, 3 and 10 coefficient sets */
+        if (set == FULL && want("materials")) {
+            for (size_t k = 1; k < MAXSETS; k++)
+                for (int i = 0; i < 9; i++) MAT_SCALE[k][i] = 0.5 * pow(4.0, mat_urand());
+            for (int i = 0; i < 9; i++) MAT_SCALE[0][i] = 1.0;
+            printf("info materials: scale factors of (k_t gamma_t mu k_r gamma_r mu_r k_tw "
+                   "gamma_tw mu_tw) per set:");
+            for (size_t k = 0; k < MAXSETS; k++) {
+                printf(" set%zu", k);
+                for (int i = 0; i < 9; i++) printf("%c%.2f", i ? ',' : ' ', MAT_SCALE[k][i]);
+            }
+            printf("\n");
+            for (int k = 0; k < NMAT; k++) {
+                size_t nsets, counts[MAXSETS];
+                uint32_t *mat = material_indices(&s, NMAT_TYPES[k], &nsets, counts);
+                printf("info materials%zu: %u particle type(s) drawn at random, a contact's set "
+                       "the pair of its particles' types; contacts per set:",
+                       nsets, NMAT_TYPES[k]);
+                for (size_t m = 0; m < nsets; m++)
+                    printf(" %.1f%%", 100.0 * (double)counts[m] / (double)s.nc);
+                printf("\n");
+                MODEL = make_material_model(nsets);
+                memset(&PARAMS, 0, sizeof PARAMS);
+                PARAMS.material = mat;
+                memset(&OPTS, 0, sizeof OPTS);
+                OPTS.precision = RSL_PRECISION_F64;
+                MODE = MATERIALS;
+                for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
+                    if (!((simd >> lv) & 1)) continue;
+                    OPTS.simd = lv;
+                    snprintf(name, sizeof name, "materials%zu_f64_%s", nsets, LEVEL[lv]);
+                    if (!want(name)) continue;
+                    double t = timeit(&s, batch, reps);
+                    if (REP.simd != lv) {
+                        fprintf(stderr, "%s: asked for SIMD level %u, ran %u\n", name, lv,
+                                REP.simd);
+                        exit(1);
+                    }
+                    /* one set: the baseline's physics (compared); more: other coefficients */
+                    row(g, name, t, nsets == 1, &s);
+                }
+                MODE = PARTICLE_MAJOR;
+                memset(&PARAMS, 0, sizeof PARAMS);
+                rsl_model_free(MODEL);
+                free(mat);
             }
         }
         /* the same set on the no-slip histories: the baseline's best case */

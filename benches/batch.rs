@@ -218,11 +218,19 @@ fn physics(row: &Row) -> String {
         return format!("{}, no contact at a limit", row.group);
     }
     if let Some(start) = row.name.find('[') {
-        let scene = row.name[start + 1..].trim_end_matches(']');
+        let laws = row.name[start + 1..].trim_end_matches(']');
         if row.loads == "-" {
-            return format!("{scene} †");
+            return format!("{laws} †");
         }
-        return format!("{} ({scene})", row.group);
+        return format!("{} ({laws})", row.group);
+    }
+    if let Some(rest) = row.name.strip_prefix("materials") {
+        // materials<N>_f64_<l>: the group's laws with a table of N coefficient sets
+        let n = rest.split('_').next().unwrap_or("");
+        if row.loads == "-" {
+            return format!("{}, {n} material sets †", row.group);
+        }
+        return format!("{}, {n} material set(s)", row.group);
     }
     if row.name.starts_with("decompose") {
         return "decomposition only †".to_string();

@@ -16,8 +16,9 @@
 //! (the SIMD level `RSL_SIMD_AUTO` picks, minimum of 7 calls).
 
 use nalgebra::{Rotation3, Unit};
+use rollslide::batch::dispatch::{run_decompose, run_step, BatchConfig};
 use rollslide::batch::{ContactDecompose, ContactSteps, SlidingOverrides};
-use rollslide::capi::batch::{rsl_batch_loads, run_decompose, run_step, BatchConfig};
+use rollslide::capi::batch::rsl_batch_loads;
 use rollslide::capi::contact::rsl_contact_state;
 use rollslide::capi::types::{rsl_sphere, rsl_vec3};
 use rollslide::decompose::{Decomposition, Parts, Sphere};

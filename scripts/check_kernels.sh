@@ -1,11 +1,11 @@
 #!/bin/sh
 # Checks that the release library's SIMD batch kernels and per-contact steps are whole: no call
-# from a kernel (`capi::batch::x86::*`) into the physics, nalgebra, simba or the `core::arch`
+# from a kernel (`batch::dispatch::x86::*`) into the physics, nalgebra, simba or the `core::arch`
 # intrinsics, and the per-contact steps as the end of the script says. It also checks that the
 # kernels are the ones the source defines (see "The kernels" below).
 #
 # The x86 kernels get their vector instructions by inlining: the lane types of
-# `src/capi/lanes_x86.rs` call `core::arch` intrinsics from plain functions, and an intrinsic
+# `src/batch/x86/lanes.rs` call `core::arch` intrinsics from plain functions, and an intrinsic
 # only becomes its instruction once inlined into a `#[target_feature]` kernel. A physics
 # function that the compiler leaves out of line (a closure, a nalgebra method over a lane
 # type) is compiled without those features: every intrinsic in it becomes a function call,
@@ -16,7 +16,7 @@
 # reader, and one of the gather that prefetched and copied a contact's numbers: a call per
 # contact in the prefetching kernels), and on those once found in the indexed-state store
 # (`get_disjoint_mut`, `array::map`) or that it could leave there (a function or closure of
-# `batch::states` or `capi::indexed`): each cost a call, and its arguments and results
+# `batch::states`, where `IndexedGroups` is too): each cost a call, and its arguments and results
 # through memory, per group of contacts.
 #
 #   scripts/check_kernels.sh        (builds the release library first; needs objdump)
@@ -32,7 +32,7 @@ fi
 [ -f "$lib" ] || { echo "check_kernels: no archive $lib" >&2; exit 1; }
 # In the archive's objects a call's target is its relocation (-r), on the line after the call.
 out=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
-  /^[0-9a-f]+ <.*>:$/ { inside = ($0 ~ /capi::batch::x86::/); name = $0; call = 0; next }
+  /^[0-9a-f]+ <.*>:$/ { inside = ($0 ~ /batch::dispatch::x86::/); name = $0; call = 0; next }
   inside && /\tcall/ { call = 1; next }
   inside && call && /R_X86_64_/ {
     call = 0
@@ -40,43 +40,43 @@ out=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
     # is tested, not the generic arguments of a demangled instance (`f::<...>`): a kernel
     # calls the cold, deliberately out-of-line `batch::group_refs_by_contact` for the
     # last, partial group, and where the kernels and it lie in different codegen units its
-    # name carries the access type (`capi::indexed::IndexedGroups`) among them.
+    # name carries the access type (`batch::states::IndexedGroups`) among them.
     match($0, /R_X86_64_[A-Z0-9_]+[ \t]+/)
     target = substr($0, RSTART + RLENGTH)
     path = target
     sub(/::<.*/, "", path)
-    if (path ~ /core_arch|nalgebra|simba|lanes_x86|rollslide::(scalar|laws|geometry|loads|decompose)|9rollslide(6scalar|4laws|8geometry|5loads|9decompose)/ ||
-        path ~ /core::array|4core5array|RowsAt|block::gather|5block6gather|get_disjoint_mut|batch::states|5batch6states|capi::indexed|4capi7indexed/)
+    if (path ~ /core_arch|nalgebra|simba|x86::lanes|3x865lanes|rollslide::(scalar|laws|geometry|loads|decompose)|9rollslide(6scalar|4laws|8geometry|5loads|9decompose)/ ||
+        path ~ /core::array|4core5array|RowsAt|block::gather|5block6gather|get_disjoint_mut|batch::states|5batch6states/)
       print name " calls " target
     next
   }
   { call = 0 }' | sort | uniq -c)
 # Defined functions only: an object file that calls a kernel of another codegen unit lists it
 # as undefined.
-kernels=$(objdump -t -C "$lib" | grep ' F ' | grep -c 'capi::batch::x86::' || true)
+kernels=$(objdump -t -C "$lib" | grep ' F ' | grep -c 'batch::dispatch::x86::' || true)
 if [ "$kernels" -eq 0 ]; then
   echo "check_kernels: no x86 kernel found in $lib" >&2
   exit 1
 fi
-# The kernels (src/capi/batch.rs, module `x86`): one step kernel per SIMD level (AVX2, AVX-512),
-# precision (`avx2_f64`, `avx2_f32`, `avx512_f64`, `avx512_f32`), access type `A` and
-# prefetching choice `P` (`<const P: bool, A: CAccess>`), which takes the model's law decisions
-# at run time: no other compile-time parameter (before 0.3.0 a scene code `S` gave every
-# specialised law set its own kernels, 960 in all). The access types `run_step` is instantiated
+# The kernels (src/batch/dispatch.rs, module `x86`): one step kernel per SIMD level (AVX2, AVX-512),
+# precision (`avx2_f64`, `avx2_f32`, `avx512_f64`, `avx512_f32`) and access type `A`
+# (`<A: CAccess>`), which takes the model's law decisions and the prefetching choice at run
+# time: no compile-time parameter besides the access type. The access types `run_step` is instantiated
 # with (STEP_ACCESS): particle-major with the states in an array (rsl_batch_step, _params) or in
 # place (rsl_batch_step_indexed), each with the model's sliding coefficients or per-contact ones
 # (4); packed histories (rsl_batch_step_history), one per record layout: 7, 10 or 13 words from
 # word 0 with a sliding law, 4, 7 or 10 from word 3 without (6); contact-major
 # (rsl_batch_step_contacts, _params: 1). The decomposition has one kernel per level
 # (`decompose_avx2`, `decompose_avx512`: the precision is a run-time argument), access type
-# (particle- or contact-major: DECOMPOSE_ACCESS) and prefetching choice.
-# Each of the six families must be there, with at most 2 x its access types instances: fewer is
-# fine (LLVM may fold identical instances into one), more means another compile-time parameter
-# (or a new access type: then update the count here). Where the symbols carry their generic
-# arguments (v0 mangling), the first must be the prefetching choice (`true` or `false`).
+# (particle- or contact-major: DECOMPOSE_ACCESS) and prefetching choice (`<const P: bool, A>`).
+# Each of the six families must be there, with at most one instance per access type (two for
+# the decomposition): fewer is fine (LLVM may fold identical instances into one), more means
+# another compile-time parameter (or a new access type: then update the count here). Where the
+# symbols carry their generic arguments (v0 mangling), a decomposition kernel's first must be
+# the prefetching choice (`true` or `false`).
 STEP_ACCESS=11
 DECOMPOSE_ACCESS=2
-families=$(objdump -t -C "$lib" | awk -v step_max=$((2 * STEP_ACCESS)) \
+families=$(objdump -t -C "$lib" | awk -v step_max="$STEP_ACCESS" \
     -v decompose_max=$((2 * DECOMPOSE_ACCESS)) '
   BEGIN {
     n = split("avx2_double::avx2_f64 avx2_single::avx2_f32 avx512_double::avx512_f64 " \
@@ -84,12 +84,12 @@ families=$(objdump -t -C "$lib" | awk -v step_max=$((2 * STEP_ACCESS)) \
               family, " ")
     for (i = 1; i <= n; i++) count[family[i]] = 0
   }
-  / F / && /capi::batch::x86::/ {
+  / F / && /batch::dispatch::x86::/ {
     name = $0
     sub(/^[^\t]*\t[0-9a-f]+[ \t]+/, "", name)   # after the section and the size
     sub(/^\.hidden[ \t]+/, "", name)
     for (i = 1; i <= n; i++) {
-      key = "capi::batch::x86::" family[i]
+      key = "batch::dispatch::x86::" family[i]
       at = index(name, key)
       if (at == 0) continue
       rest = substr(name, at + length(key))
@@ -98,7 +98,7 @@ families=$(objdump -t -C "$lib" | awk -v step_max=$((2 * STEP_ACCESS)) \
       if (rest == "") { count[family[i]]++; break }
       if (substr(rest, 1, 3) == "::<") {        # v0 mangling: the generic arguments
         count[family[i]]++
-        if (rest !~ /^::<(true|false),/) print "parameter " name
+        if (family[i] ~ /^decompose/ && rest !~ /^::<(true|false),/) print "parameter " name
       }
       break                                     # anything else is not a kernel (a closure)
     }
@@ -114,7 +114,7 @@ families=$(objdump -t -C "$lib" | awk -v step_max=$((2 * STEP_ACCESS)) \
   }')
 bad=$(echo "$families" | grep -v '^ok ' || true)
 if [ -n "$bad" ]; then
-  echo "check_kernels: the kernels in $lib are not the ones of src/capi/batch.rs (see the script):" >&2
+  echo "check_kernels: the kernels in $lib are not the ones of src/batch/dispatch.rs (see the script):" >&2
   echo "$bad" | head -20 >&2
   exit 1
 fi

@@ -11,7 +11,9 @@
 //! are returned on body 1, with body 2's reaction given separately.
 //!
 //! The physics is written once, generic over [`scalar::Real`] (f64, f32 and SIMD lanes).
-//! The C ABI lives in [`capi`]; its header is `include/rollslide.h`.
+//! The C ABI lives in [`capi`]; its header is `include/rollslide.h`. The engine (the batch
+//! kernels, their CPU dispatch, SIMD lanes and copiers) lives in [`batch`], the per-contact fast
+//! path in [`laws::fast_path`], and the C structs they read in place in [`layout`].
 
 pub mod batch;
 pub mod capi;
@@ -20,6 +22,7 @@ pub mod error;
 pub mod geometry;
 pub mod inverse;
 pub mod laws;
+pub mod layout;
 pub mod legacy;
 pub mod loads;
 pub mod scalar;

@@ -5,17 +5,16 @@
 mod common;
 
 use common::{full_model, law_set_models, length_form_models, Rng};
-use rollslide::batch::history::{history_layout, words_from_state, HistoryLayout};
+use rollslide::batch::dispatch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
+use rollslide::batch::history::{history_layout, words_from_state, HistoryLayout, Record};
+use rollslide::batch::states::IndexedGroups;
 use rollslide::batch::{
     BatchReport, ContactStates, ContactSteps, Gather, IndexedStates, ModelSliding,
     ParticleDecompose, ParticleSteps, SlidingOverrides, SlidingSource, StepAccess,
     PREFETCH_MIN_BYTES,
 };
 use rollslide::capi::batch::rsl_batch_loads;
-use rollslide::capi::batch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use rollslide::capi::contact::rsl_contact_state;
-use rollslide::capi::history::Record;
-use rollslide::capi::indexed::IndexedGroups;
 use rollslide::capi::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
 use rollslide::decompose::{decompose_pair, Parts, Sphere};
 use rollslide::error::Error;

@@ -275,8 +275,9 @@ fn c_vec(x: &rollslide::scalar::Vec3<f64>) -> rollslide::capi::types::rsl_vec3 {
 /// tolerance as the per-contact test above.
 #[test]
 fn liggghts_rolling_laws_reproduce_liggghts_through_the_batch_call() {
+    use rollslide::batch::dispatch::{run_step, BatchConfig, Simd};
     use rollslide::batch::{ContactSteps, SlidingOverrides};
-    use rollslide::capi::batch::{rsl_batch_loads, run_step, BatchConfig, Simd};
+    use rollslide::capi::batch::rsl_batch_loads;
     use rollslide::capi::contact::rsl_contact_state;
     use rollslide::capi::types::rsl_sphere;
 

@@ -401,13 +401,14 @@ fn group<const Q: usize>(rows: &[Row; Q], g: usize) -> [&GroupRow; Q] {
 /// [`GROUP`] at a time, and pads the slots of the last group with the last contact (their
 /// results are dropped). With 16 lanes a step can also cover slots past the last group, which
 /// keep an earlier block's values (or the initial ones): their lanes are stepped and dropped
-/// in the same way. When `PREFETCH` ([`Gather::prefetching`](super::Gather::prefetching)),
+/// in the same way. When `prefetch` ([`Gather::prefetching`](super::Gather::prefetching)),
 /// calls [`Gather::touch`](super::Gather::touch) for the contacts `TOUCH_AHEAD` further on;
 /// their in-order part ([`Gather::touch_in_order`](super::Gather::touch_in_order)) goes after
 /// each lane step, in [`step_kernel`].
 #[cfg_attr(not(debug_assertions), inline(always))]
 #[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
-fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
+fn gather<A: StepAccess, X: GroupCopy<A::P, A::State>>(
+    prefetch: bool,
     access: &A,
     copy: X,
     c0: usize,
@@ -427,7 +428,7 @@ fn gather<const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
         let whole = g + GROUP <= count;
         // Slot `g + k`'s contact: the last one for the slots past the end.
         let contact = |k: usize| c0 + (g + k).min(count - 1);
-        if PREFETCH {
+        if prefetch {
             for k in 0..GROUP {
                 access.touch(c0 + g + k + TOUCH_AHEAD);
             }
@@ -1052,7 +1053,8 @@ fn step_lanes<L: Lanes>(
 #[cfg_attr(not(debug_assertions), inline(always))]
 #[cfg_attr(debug_assertions, inline)] // one copy in unoptimised builds: see `step_kernel`
 #[allow(clippy::too_many_arguments)]
-fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
+fn step_one<L: Lanes, A: StepAccess>(
+    prefetch: bool,
     access: &mut A,
     model: &Model,
     dt: f64,
@@ -1060,7 +1062,7 @@ fn step_one<const PREFETCH: bool, L: Lanes, A: StepAccess>(
     c: usize,
     report: &mut BatchReport,
 ) {
-    if PREFETCH {
+    if prefetch {
         access.touch(c + TOUCH_AHEAD);
         access.touch_in_order(c + TOUCH_AHEAD);
     }
@@ -1200,11 +1202,6 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
 /// at run time, once per call: one kernel per lane type, access and prefetching choice runs
 /// every model.
 ///
-/// `PREFETCH`: whether to touch the contacts ahead; pass
-/// [`Gather::prefetching`](super::Gather::prefetching) of `access`. It is a constant, so that
-/// a caller compiles the two kernels as separate functions and the choice costs nothing per
-/// contact.
-///
 /// **Unoptimised builds** keep the step's large parts out of line: `gather`, `step_lanes`,
 /// `step_one`, `deliver` and `laws::step::contact_step_with_geometry` are `#[inline]` with
 /// debug assertions on (the unoptimised `dev` and `test` profiles; also the optimised `stress`
@@ -1213,7 +1210,7 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
 /// of one inside each kernel. The results are the same to the bit: Rust does not contract or
 /// reorder floating-point operations, inlined or not.
 #[inline(always)]
-pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A::P, A::State>>(
+pub fn step_kernel<L: Lanes, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     model: &Model,
     dt: f64,
     access: &mut A,
@@ -1221,6 +1218,9 @@ pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A
 ) -> BatchReport {
     const { assert!(BLOCK.is_multiple_of(L::N)) };
     let needs_kn = needs_normal_stiffness(model);
+    // Whether to touch the contacts ahead ([`Gather::prefetching`](super::Gather::prefetching)):
+    // a run-time choice, tested once per group of contacts.
+    let prefetch = access.prefetching();
     // Fused finiteness tests where the lanes have them (see `FiniteLanes`).
     let fused = true;
     // A group's states get back only the words the step can change (decided by the model).
@@ -1232,7 +1232,7 @@ pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A
     }
     if L::N == 1 {
         for c in 0..n {
-            step_one::<PREFETCH, L, A>(access, model, dt, needs_kn, c, &mut report);
+            step_one::<L, A>(prefetch, access, model, dt, needs_kn, c, &mut report);
         }
         return report;
     }
@@ -1244,7 +1244,7 @@ pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A
     let mut c0 = 0;
     while c0 < n {
         let count = (n - c0).min(BLOCK);
-        gather::<PREFETCH, A, X>(&*access, copy, c0, count, needs_kn, &mut block);
+        gather::<A, X>(prefetch, &*access, copy, c0, count, needs_kn, &mut block);
         block.valid = 0;
         let mut at = 0;
         while at < count {
@@ -1252,7 +1252,7 @@ pub fn step_kernel<L: Lanes, const PREFETCH: bool, A: StepAccess, X: GroupCopy<A
             // What the contacts `TOUCH_AHEAD` further on read in contact order, one lane
             // step's worth after each step: spread among the arithmetic, where the gather issues
             // the scattered rest a group at a time ([`Gather::touch_in_order`]).
-            if PREFETCH {
+            if prefetch {
                 for k in 0..L::N {
                     access.touch_in_order(c0 + at + k + TOUCH_AHEAD);
                 }

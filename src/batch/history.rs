@@ -1,5 +1,6 @@
 //! Packed contact histories: only the words of [`ContactState`] that a model reads, as a
-//! record of doubles per contact (the C layer's `Record` steps them in the batch kernels).
+//! record of doubles per contact ([`Record`], the state type the batch kernels step for
+//! `rsl_batch_step_history`).
 //!
 //! A batch step is limited by the memory traffic of the state as much as by its arithmetic:
 //! the 13 doubles of a [`ContactState`] (112 bytes in the C struct) are read and written per
@@ -16,6 +17,8 @@
 //! the run of it from word [`HistoryLayout::first`] (0, or `NO_SLIDING` = 3 without a sliding
 //! law) to word 7, 10 or 13.
 
+use super::prefetch::prefetch_l1;
+use super::StateSlot;
 use crate::laws::model::{Model, SlidingLaw, Transport};
 use crate::laws::step::ContactState;
 use crate::scalar::Vec3;
@@ -134,6 +137,53 @@ pub fn words_from_state(
         *w = record_word(state, layout.first + i);
     }
     true
+}
+
+/// One contact's packed history of `W` doubles, words `F..F + W` of the full layout of
+/// `batch::history` (`F` = 0: 7, 10 or 13 words; `F` = 3, no sliding spring: 4, 7 or 10), as
+/// the host keeps it: `W` consecutive doubles of its history array.
+#[repr(transparent)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Record<const W: usize, const F: usize>(pub [f64; W]);
+
+impl<const W: usize, const F: usize> Record<W, F> {
+    /// The record of `state` (the fields a record does not keep are dropped).
+    pub fn from_state(state: &ContactState<f64>) -> Self {
+        Record(std::array::from_fn(|i| record_word(state, F + i)))
+    }
+}
+
+impl<const W: usize, const F: usize> StateSlot for Record<W, F> {
+    #[inline(always)]
+    fn load(&self) -> ContactState<f64> {
+        let w = |q: usize| {
+            if (F..F + W).contains(&q) {
+                self.0[q - F]
+            } else {
+                0.0
+            }
+        };
+        let v = |q: usize| Vec3::new(w(q), w(q + 1), w(q + 2));
+        ContactState {
+            sliding_spring: v(0),
+            rolling_spring: v(3),
+            twisting_angle: w(6),
+            previous_normal: v(7),
+            twisting_offaxis: v(10),
+        }
+    }
+    #[inline(always)]
+    fn store(&mut self, state: &ContactState<f64>, _slip: u32) {
+        for (i, w) in self.0.iter_mut().enumerate() {
+            *w = record_word(state, F + i);
+        }
+    }
+    #[inline(always)]
+    fn touch(&self) {
+        // The record's first and last doubles: its one or two cache lines.
+        prefetch_l1(&self.0[0]);
+        prefetch_l1(&self.0[W - 1]);
+    }
 }
 
 #[cfg(test)]

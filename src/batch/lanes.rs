@@ -4,7 +4,7 @@
 //! kernels of the C ABI do not use the `AutoSimd` packs: LLVM re-vectorised their arrays into
 //! mixed xmm/ymm/zmm pieces with many spills and kept their masks as arrays of `bool` (the
 //! AVX-512 kernel ran the full LAMMPS set at 55 ns per contact with them, 45 with the
-//! register-backed types of `capi::lanes_x86`, whose every operation is one instruction).
+//! register-backed types of `batch::x86::lanes`, whose every operation is one instruction).
 
 use crate::scalar::Real;
 use simba::simd::{AutoF32x8, AutoF64x4, AutoF64x8, AutoSimd};

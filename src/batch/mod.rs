@@ -25,21 +25,34 @@
 //! outputs are untouched; the others are processed. The [`BatchReport`] counts the failures
 //! and gives the first failing contact with the error the per-contact checked call would give
 //! for it.
+//!
+//! Where the parts are: [`block`] the staged step kernel, [`dispatch`] the kernel choice and CPU
+//! dispatch (what the C layer calls), [`lanes`] the lane types (the x86-64 ones, and the SIMD
+//! copiers of the C structs, in the private module `x86`), [`history`] the packed history
+//! records, [`states`] where a step finds each contact's state; the slot traits of the C layouts
+//! ([`crate::layout`]) and the prefetch hints are in the private modules `c_slots` and `prefetch`.
 
 pub mod block;
+mod c_slots;
+pub mod dispatch;
 pub mod history;
 pub mod lanes;
+mod prefetch;
 pub mod states;
+#[cfg(target_arch = "x86_64")]
+mod x86;
 
 #[cfg(all(test, target_arch = "x86_64"))]
 pub(crate) use block::state_words;
-// For the C layer's SIMD copiers, which exist on x86-64 only.
+// For the SIMD copiers of `x86::transpose`, which exist on x86-64 only.
 #[cfg(target_arch = "x86_64")]
 pub(crate) use block::{group_of, pair_bodies_by_reference, store_loads_by_value, BODY_WORDS};
 pub use block::{step_kernel, GroupCopy, GroupRow, GroupRowsMut, LoadRows, PortableCopy};
 pub(crate) use block::{GROUP, STATE_WORDS};
+pub use dispatch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
+pub use history::Record;
 pub use lanes::{Lanes, MAX_LANES};
-pub use states::{ContactStates, IndexedStates};
+pub use states::{ContactStates, IndexedGroups, IndexedStates};
 
 use crate::decompose::{
     decompose_pair, decompose_pair_with_geometry, Decomposition, Parts, Sphere,

@@ -1,6 +1,7 @@
 //! Batch entry points: many contacts per call (`rsl_batch_step`, `rsl_batch_step_contacts`,
-//! `rsl_batch_decompose`, `rsl_batch_decompose_contacts`), the kernel choice (precision, SIMD
-//! level) and the run-time CPU dispatch.
+//! `rsl_batch_decompose`, `rsl_batch_decompose_contacts`): they check and borrow the arguments,
+//! parse the options into the core's kernel choice ([`BatchConfig`], [`Simd`]: the kernels and
+//! their run-time CPU dispatch are `batch::dispatch`'s) and fill the report.
 //!
 //! Data layout (particle-major calls): particles are an array of `rsl_sphere` (AoS: position,
 //! velocity, angular velocity, radius: 80 bytes, one or two cache lines per particle, which is
@@ -8,41 +9,31 @@
 //! (body 1, body 2); forces and torques are `rsl_vec3` arrays per particle (LAMMPS' `f[i][3]`,
 //! `torque[i][3]`), **accumulated** (`+=`), never cleared. Per-contact arrays (`normal_force`,
 //! `states`) follow contact order.
-//!
-//! The SIMD kernels are the generic physics instantiated for the register-backed lane types of
-//! `lanes_x86` (one zmm or ymm register per value) inside `#[target_feature]` functions, chosen
-//! at run time from the CPU's features; `scripts/check_kernels.sh` checks that the physics is
-//! inlined into them whole.
 #![allow(non_camel_case_types)]
 
-use super::contact::{rsl_contact_energy, rsl_contact_state};
+pub use crate::layout::rsl_batch_loads;
+
 use super::decompose::{parse_options, rsl_decompose_options};
-use super::history::Record;
-use super::indexed::IndexedGroups;
-use super::model::{live_model, rsl_model};
+use super::handle::{live_model, rsl_model};
 use super::status::FfiError;
-#[cfg(target_arch = "x86_64")]
-use super::transpose::{Avx2Copy, Avx512Copy};
-use super::types::{rsl_decomposition, rsl_sphere, rsl_vec3};
-use super::{guard, optional_input, output};
+use super::types::{rsl_contact_energy, rsl_decomposition, rsl_sphere, rsl_vec3};
+use super::{guard, optional_input, output, slice_in, slice_out};
+use crate::batch::dispatch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use crate::batch::history::{
     history_layout, history_words, state_from_words as history_state_from_words, words_from_state,
-    HistoryLayout, NO_SLIDING, SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS,
+    Record, NO_SLIDING, SPRINGS_ONLY, WITH_NORMAL, WITH_OFFAXIS,
 };
-#[cfg(target_arch = "x86_64")]
-use crate::batch::GroupCopy;
 use crate::batch::{
-    check_batch_model, check_time_step, decompose_kernel, needs_normal_stiffness, step_kernel,
-    AddSlot, BatchReport, ContactDecompose, ContactStates, ContactSteps, DecomposeAccess,
-    DecompositionSlot, EnergyTerms, Gather, IndexedStates, LoadsSlot, Materials, ModelSliding,
-    PairLoads, ParticleDecompose, ParticleSteps, PortableCopy, SlidingOverrides, SlidingSource,
-    SphereSlot, StateSlot, StepAccess,
+    needs_normal_stiffness, BatchReport, ContactDecompose, ContactStates, ContactSteps,
+    DecomposeAccess, DecompositionSlot, EnergyTerms, IndexedGroups, IndexedStates, Materials,
+    ModelSliding, ParticleDecompose, ParticleSteps, SlidingOverrides, SlidingSource, StateSlot,
 };
-use crate::decompose::{Decomposition, Parts, Sphere};
+use crate::decompose::{Decomposition, Parts};
 use crate::error::Error;
 use crate::geometry::GeometryOptions;
 use crate::laws::model::Model;
 use crate::laws::step::ContactState;
+use crate::layout::rsl_contact_state;
 
 /// Precision: everything in double (default).
 pub const RSL_PRECISION_F64: u32 = 0;
@@ -106,187 +97,6 @@ pub struct rsl_batch_report {
     pub reserved: u32,
 }
 
-/// Loads of one contact (contact-major step): body 2 receives `-force1` and `torque2`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_batch_loads {
-    /// Force on body 1.
-    pub force1: rsl_vec3,
-    /// Torque on body 1 about its centre.
-    pub torque1: rsl_vec3,
-    /// Torque on body 2 about its centre.
-    pub torque2: rsl_vec3,
-}
-
-/// Prefetches the cache line holding `*p` into L1 (`PREFETCHT0`; no-op off x86-64): for the
-/// contacts' histories, read in order, one record or state per contact. Measured (A, 1.2M
-/// contacts, full set, f64 AVX-512, records of 7 doubles): 23.3 ns per contact into L1 against
-/// 25.4 into L2.
-#[inline(always)]
-pub(crate) fn prefetch_l1<T>(p: &T) {
-    // Off x86-64 there is no hint to give.
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = p;
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: PREFETCHT0 is a hint: it never faults and changes no architectural state; the
-    // address comes from a live reference anyway.
-    unsafe {
-        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-            (p as *const T).cast::<i8>(),
-        )
-    }
-}
-
-/// Prefetches the cache line holding `*p` into L2 (`PREFETCHT1`; no-op off x86-64). Measured
-/// at 1M contacts with an earlier kernel: into L2 51 ns/contact, into L1 (`T0`) 69: the lines
-/// of 48 contacts ahead crowd L1.
-#[inline(always)]
-pub(crate) fn prefetch<T>(p: &T) {
-    // Off x86-64 there is no hint to give.
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = p;
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: PREFETCHT1 is a hint: it never faults and changes no architectural state; the
-    // address comes from a live reference anyway.
-    unsafe {
-        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T1 }>(
-            (p as *const T).cast::<i8>(),
-        )
-    }
-}
-
-/// Prefetches into L2 the line holding byte `offset` of `slots[i]`, without a bounds check: the
-/// address is computed with wrapping arithmetic and never dereferenced, so an index past the
-/// end prefetches a line the program may not own, which is harmless. Saves the compare and
-/// branch per touched slot that [`prefetch`] through a checked `get` costs (15 slots per
-/// contact in the particle-major call).
-#[inline(always)]
-fn prefetch_at<T>(slots: &[T], i: usize, offset: usize) {
-    let _address = slots
-        .as_ptr()
-        .wrapping_add(i)
-        .cast::<i8>()
-        .wrapping_add(offset);
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: PREFETCHT1 is a hint: it never faults, whatever the address, and changes no
-    // architectural state; nothing is read or written through `_address`.
-    unsafe {
-        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T1 }>(_address)
-    }
-}
-
-impl SphereSlot for rsl_sphere {
-    #[inline(always)]
-    fn sphere(&self) -> Sphere<f64> {
-        Sphere::from(self)
-    }
-    #[inline(always)]
-    fn touch(&self) {
-        // An rsl_sphere is 80 bytes: it may straddle two cache lines.
-        prefetch(&self.position.x);
-        prefetch(&self.radius);
-    }
-    #[inline(always)]
-    fn touch_in(slots: &[Self], i: usize) {
-        prefetch_at(slots, i, 0);
-        prefetch_at(slots, i, std::mem::offset_of!(rsl_sphere, radius));
-    }
-}
-
-impl StateSlot for rsl_contact_state {
-    #[inline(always)]
-    fn load(&self) -> ContactState<f64> {
-        ContactState::from(self)
-    }
-    #[inline(always)]
-    fn store(&mut self, s: &ContactState<f64>, slip: u32) {
-        self.sliding_spring = s.sliding_spring.into();
-        self.rolling_spring = s.rolling_spring.into();
-        self.twisting_angle = s.twisting_angle;
-        self.twisting_offaxis = s.twisting_offaxis.into();
-        self.previous_normal = s.previous_normal.into();
-        self.slip_flags = slip;
-    }
-    #[inline(always)]
-    fn touch(&self) {
-        // 112 bytes: two or three cache lines.
-        prefetch(&self.sliding_spring.x);
-        prefetch(&self.twisting_offaxis.x);
-        prefetch(&self.slip_flags);
-    }
-    #[inline(always)]
-    fn touch_in(slots: &[Self], i: usize) {
-        prefetch_at(slots, i, 0);
-        prefetch_at(
-            slots,
-            i,
-            std::mem::offset_of!(rsl_contact_state, twisting_offaxis),
-        );
-        prefetch_at(
-            slots,
-            i,
-            std::mem::offset_of!(rsl_contact_state, slip_flags),
-        );
-    }
-}
-
-impl AddSlot for rsl_vec3 {
-    #[inline(always)]
-    fn add(&mut self, v: [f64; 3]) {
-        self.x += v[0];
-        self.y += v[1];
-        self.z += v[2];
-    }
-    #[inline(always)]
-    fn get(&self) -> [f64; 3] {
-        [self.x, self.y, self.z]
-    }
-    #[inline(always)]
-    fn set(&mut self, v: [f64; 3]) {
-        *self = vec(v);
-    }
-    #[inline(always)]
-    fn touch(&self) {
-        // 24 bytes: may straddle two cache lines.
-        prefetch(&self.x);
-        prefetch(&self.z);
-    }
-    #[inline(always)]
-    fn touch_in(slots: &[Self], i: usize) {
-        prefetch_at(slots, i, 0);
-        prefetch_at(slots, i, std::mem::offset_of!(rsl_vec3, z));
-    }
-}
-
-fn vec(a: [f64; 3]) -> rsl_vec3 {
-    rsl_vec3 {
-        x: a[0],
-        y: a[1],
-        z: a[2],
-    }
-}
-
-impl LoadsSlot for rsl_batch_loads {
-    #[inline(always)]
-    fn set(&mut self, l: &PairLoads) {
-        *self = rsl_batch_loads {
-            force1: vec(l.force1),
-            torque1: vec(l.torque1),
-            torque2: vec(l.torque2),
-        };
-    }
-    #[inline(always)]
-    fn words_mut(&mut self) -> Option<&mut [f64; 9]> {
-        const _: () = assert!(std::mem::size_of::<rsl_batch_loads>() == 72);
-        const _: () = assert!(std::mem::offset_of!(rsl_batch_loads, torque1) == 24);
-        const _: () = assert!(std::mem::offset_of!(rsl_batch_loads, torque2) == 48);
-        // SAFETY: `rsl_batch_loads` is `repr(C)`: three `rsl_vec3` (each `repr(C)`, three
-        // `f64`) at offsets 0, 24, 48 and size 72 (asserted above), the layout of `[f64; 9]`
-        // with the same alignment. The result borrows `self` mutably.
-        Some(unsafe { &mut *(self as *mut rsl_batch_loads).cast::<[f64; 9]>() })
-    }
-}
-
 impl DecompositionSlot for rsl_decomposition {
     #[inline(always)]
     fn set(&mut self, d: &Decomposition<f64>) {
@@ -294,47 +104,14 @@ impl DecompositionSlot for rsl_decomposition {
     }
 }
 
-/// A SIMD level that this CPU has (construct with [`Simd::resolve`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Simd {
-    /// One contact at a time.
-    Scalar,
-    /// AVX2 + FMA.
-    Avx2,
-    /// AVX-512 F/VL/DQ/BW.
-    Avx512,
-}
+// The C option codes of the core's kernel choice (`batch::dispatch`).
 
 impl Simd {
-    /// Whether the running CPU supports this level.
-    pub fn available(self) -> bool {
-        match self {
-            Simd::Scalar => true,
-            #[cfg(target_arch = "x86_64")]
-            Simd::Avx2 => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
-            #[cfg(target_arch = "x86_64")]
-            Simd::Avx512 => {
-                Simd::Avx2.available()
-                    && is_x86_feature_detected!("avx512f")
-                    && is_x86_feature_detected!("avx512vl")
-                    && is_x86_feature_detected!("avx512dq")
-                    && is_x86_feature_detected!("avx512bw")
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            _ => false,
-        }
-    }
-
     /// The level for an `RSL_SIMD_*` code: `AUTO` picks the best available; asking for a level
     /// the CPU lacks is an error.
     pub fn resolve(code: u32) -> Result<Simd, Error> {
         let wanted = match code {
-            RSL_SIMD_AUTO => {
-                return Ok([Simd::Avx512, Simd::Avx2]
-                    .into_iter()
-                    .find(|s| s.available())
-                    .unwrap_or(Simd::Scalar))
-            }
+            RSL_SIMD_AUTO => return Ok(Simd::best()),
             RSL_SIMD_SCALAR => Simd::Scalar,
             RSL_SIMD_AVX2 => Simd::Avx2,
             RSL_SIMD_AVX512 => Simd::Avx512,
@@ -363,15 +140,6 @@ impl Simd {
     }
 }
 
-/// A resolved batch configuration.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct BatchConfig {
-    /// Single (mixed) precision.
-    pub f32: bool,
-    /// SIMD level (available on this CPU).
-    pub simd: Simd,
-}
-
 impl BatchConfig {
     /// Validates C options (NULL: defaults).
     pub fn from_options(o: Option<&rsl_batch_options>) -> Result<BatchConfig, Error> {
@@ -391,379 +159,10 @@ impl BatchConfig {
                 o.flags
             )));
         }
-        // The widest level the CPU has, for both precisions: with the block-staged kernel the
-        // AVX-512 build of the 8-lane single-precision kernel measured faster than its AVX2
-        // build (in cache 27.5 against 29.3 ns per contact, full LAMMPS set); before the
-        // staging it was the slower and `RSL_SIMD_AUTO` picked AVX2 for single precision.
+        // `RSL_SIMD_AUTO`: the widest level the CPU has, for both precisions (`Simd::best`).
         let simd = Simd::resolve(o.simd)?;
         Ok(BatchConfig { f32, simd })
     }
-}
-
-// The kernels, one function per (precision, SIMD level) and prefetching choice `P`.
-
-/// A state type the C kernels step: the C struct `rsl_contact_state`, or a packed history
-/// record ([`Record`]), with the copiers that move its groups between memory and the block.
-pub trait CState: StateSlot + Sized {
-    /// The AVX2 copier.
-    #[cfg(target_arch = "x86_64")]
-    type Avx2: GroupCopy<rsl_sphere, Self>;
-    /// The AVX-512 copier.
-    #[cfg(target_arch = "x86_64")]
-    type Avx512: GroupCopy<rsl_sphere, Self>;
-    /// # Safety
-    /// The CPU must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    unsafe fn avx2() -> Self::Avx2;
-    /// # Safety
-    /// The CPU must have AVX-512 F and DQ, and AVX2.
-    #[cfg(target_arch = "x86_64")]
-    unsafe fn avx512() -> Self::Avx512;
-}
-
-#[cfg(target_arch = "x86_64")]
-impl<S: StateSlot> CState for S
-where
-    Avx2Copy: GroupCopy<rsl_sphere, S>,
-    Avx512Copy: GroupCopy<rsl_sphere, S>,
-{
-    type Avx2 = Avx2Copy;
-    type Avx512 = Avx512Copy;
-    unsafe fn avx2() -> Avx2Copy {
-        // SAFETY: the caller's contract is `Avx2Copy::assume`'s.
-        unsafe { Avx2Copy::assume() }
-    }
-    unsafe fn avx512() -> Avx512Copy {
-        // SAFETY: the caller's contract covers `Avx512Copy::assume`'s.
-        unsafe { Avx512Copy::assume() }
-    }
-}
-
-#[cfg(not(target_arch = "x86_64"))]
-impl<S: StateSlot> CState for S {}
-
-/// What the step kernels read and write: the C sphere struct and a [`CState`].
-pub trait CAccess: StepAccess<P = rsl_sphere, State: CState> {}
-
-impl<A: StepAccess<P = rsl_sphere, State: CState>> CAccess for A {}
-
-fn scalar_f64<const P: bool, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
-    step_kernel::<f64, P, A, _>(m, dt, a, PortableCopy)
-}
-
-fn scalar_f32<const P: bool, A: CAccess>(m: &Model, dt: f64, a: &mut A) -> BatchReport {
-    step_kernel::<f32, P, A, _>(m, dt, a, PortableCopy)
-}
-
-#[cfg(target_arch = "x86_64")]
-mod x86 {
-    //! The SIMD kernels, one module per level and precision (and one for the decomposition):
-    //! rustc puts a generic function's instances in the codegen unit of the module that defines
-    //! it, so that with `codegen-units` above 1 (Cargo.toml) these families of kernels, most of
-    //! the library's code, are optimised in parallel rather than all in one unit.
-    pub(super) use avx2_double::avx2_f64;
-    pub(super) use avx2_single::avx2_f32;
-    pub(super) use avx512_double::avx512_f64;
-    pub(super) use avx512_single::avx512_f32;
-    pub(super) use decompose::{decompose_avx2, decompose_avx512};
-
-    mod avx2_double {
-        use super::super::*;
-        use crate::capi::lanes_x86::F64x4x2;
-
-        /// # Safety
-        /// The CPU must support AVX2 and FMA.
-        #[target_feature(enable = "avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx2_f64<const P: bool, A: CAccess>(
-            m: &Model,
-            dt: f64,
-            a: &mut A,
-        ) -> BatchReport {
-            // Eight lanes in two ymm registers, each operation two independent instructions.
-            // With four lanes in one (`F64x4`) the step took 6-19% more time on the Zen 5 host of
-            // docs/performance.md (A at 1.2M contacts in both array placements, and B; 5 or 3
-            // alternating runs of scripts/ab_kernels.sh: full LAMMPS set 37.9 against 33.5 ns per
-            // contact, sliding 32.0 against 25.8), although it has half the register pressure:
-            // likely because per step of the block it pays the slip and validity bookkeeping for
-            // half as many contacts, and the clips' "any lane slips" branches are less predictable
-            // over 4 lanes. (On the Zen 4 host, with the earlier kernel, the two
-            // measured the same: 55.3 against 55.2 ns.)
-            // SAFETY: the caller guarantees AVX2.
-            step_kernel::<F64x4x2, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
-        }
-    }
-
-    mod avx2_single {
-        use super::super::*;
-        use crate::capi::lanes_x86::F32x8N;
-
-        /// # Safety
-        /// The CPU must support AVX2 and FMA.
-        #[target_feature(enable = "avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx2_f32<const P: bool, A: CAccess>(
-            m: &Model,
-            dt: f64,
-            a: &mut A,
-        ) -> BatchReport {
-            // SAFETY: the caller guarantees AVX2.
-            step_kernel::<F32x8N, P, A, _>(m, dt, a, unsafe { A::State::avx2() })
-        }
-    }
-
-    mod avx512_double {
-        use super::super::*;
-        use crate::capi::lanes_x86::F64x8;
-
-        /// # Safety
-        /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-        #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx512_f64<const P: bool, A: CAccess>(
-            m: &Model,
-            dt: f64,
-            a: &mut A,
-        ) -> BatchReport {
-            // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-            step_kernel::<F64x8, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
-        }
-    }
-
-    mod avx512_single {
-        use super::super::*;
-        use crate::capi::lanes_x86::F32x16;
-
-        /// # Safety
-        /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-        #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn avx512_f32<const P: bool, A: CAccess>(
-            m: &Model,
-            dt: f64,
-            a: &mut A,
-        ) -> BatchReport {
-            // Sixteen lanes in one zmm (the geometry in two zmm of doubles), where the double
-            // kernel has eight: against eight single lanes in a ymm (`F32x8W`) the step took 10-17%
-            // less time in cache and 5-16% less at 1.2M contacts on the Zen 5 host of
-            // docs/performance.md (A, alternating runs of scripts/ab_kernels.sh). Two such steps
-            // fill a block of 32 contacts.
-            // SAFETY: the caller guarantees AVX-512 F/DQ and AVX2.
-            step_kernel::<F32x16, P, A, _>(m, dt, a, unsafe { A::State::avx512() })
-        }
-    }
-
-    mod decompose {
-        use super::super::*;
-        use crate::capi::lanes_x86::{F32x8N, F32x8W, F64x4, F64x8};
-
-        /// # Safety
-        /// The CPU must support AVX2 and FMA.
-        #[target_feature(enable = "avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn decompose_avx2<const P: bool, A: DecomposeAccess>(
-            o: GeometryOptions,
-            p: Parts,
-            f32: bool,
-            a: &mut A,
-        ) -> BatchReport {
-            if f32 {
-                decompose_kernel::<P, F32x8N, A>(o, p, a)
-            } else {
-                // Four lanes. Eight in two ymm did not pay here: on `F64x4x2` (shared with the
-                // step) the step kernels compiled to different code that ran 4-7% slower in cache
-                // and lost most of their full-set gain at 1.2M contacts; on a separate 8-lane type
-                // (the step's code unchanged) the decomposition itself ran 9-11% slower than on
-                // four lanes (A, 2,000 and 1.2M contacts, alternating runs: 21.1 against 23.0 and
-                // 22.6 against 25.1 ns per contact).
-                decompose_kernel::<P, F64x4, A>(o, p, a)
-            }
-        }
-
-        /// # Safety
-        /// The CPU must support AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-        #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-        pub(in crate::capi::batch) unsafe fn decompose_avx512<const P: bool, A: DecomposeAccess>(
-            o: GeometryOptions,
-            p: Parts,
-            f32: bool,
-            a: &mut A,
-        ) -> BatchReport {
-            if f32 {
-                // Eight lanes in a ymm. Sixteen in a zmm (`F32x16`, as the step kernels run, with
-                // 16-slot rows) took 1.12x the time in cache and 1.31x at 1.2M contacts (A,
-                // alternating runs: 14.4 against 16.1 and 17.8 against 23.3 ns per contact).
-                decompose_kernel::<P, F32x8W, A>(o, p, a)
-            } else {
-                decompose_kernel::<P, F64x8, A>(o, p, a)
-            }
-        }
-    }
-}
-
-/// Runs the kernel of `$config` (precision and SIMD level, checked available by the caller),
-/// prefetching or not (`$p`).
-macro_rules! by_level {
-    ($config:expr, $p:literal, $args:tt) => {
-        match ($config.simd, $config.f32) {
-            (Simd::Scalar, false) => scalar_f64::<$p, _> $args,
-            (Simd::Scalar, true) => scalar_f32::<$p, _> $args,
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: the caller checked `config.simd.available()`: the CPU has AVX2 and FMA.
-            (Simd::Avx2, false) => unsafe { avx2_f64::<$p, _> $args },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: as above (AVX2 and FMA present).
-            (Simd::Avx2, true) => unsafe { avx2_f32::<$p, _> $args },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `available()` checked AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-            (Simd::Avx512, false) => unsafe { avx512_f64::<$p, _> $args },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: as above.
-            (Simd::Avx512, true) => unsafe { avx512_f32::<$p, _> $args },
-            #[cfg(not(target_arch = "x86_64"))]
-            _ => unreachable!("only the scalar level is available off x86-64"),
-        }
-    };
-}
-
-/// [`by_level`] with the kernels that prefetch when `$access` is large enough to need it
-/// ([`Gather::prefetching`]), else the ones that do not: each its own function, so that the
-/// choice costs nothing per contact.
-macro_rules! by_kernel {
-    ($config:expr, $access:expr, $args:tt) => {
-        if Gather::prefetching(&*$access) {
-            by_level!($config, true, $args)
-        } else {
-            by_level!($config, false, $args)
-        }
-    };
-}
-
-#[cfg(target_arch = "x86_64")]
-use x86::{avx2_f32, avx2_f64, avx512_f32, avx512_f64};
-
-/// Steps every contact of `access` with the kernel of `config` (safe: the SIMD level is
-/// re-checked against the CPU). The model and time step are validated here; a call-level error
-/// processes nothing.
-pub fn run_step<A: CAccess>(
-    model: &Model,
-    dt: f64,
-    access: &mut A,
-    config: BatchConfig,
-) -> Result<BatchReport, Error> {
-    check_batch_model(model)?;
-    check_time_step(dt)?;
-    if !config.simd.available() {
-        return Err(Error::InvalidArgument(
-            "SIMD level not supported by this CPU".to_string(),
-        ));
-    }
-    Ok(by_kernel!(config, access, (model, dt, access)))
-}
-
-/// As [`run_step`] for packed histories of `W` doubles from full-layout word `F` ([`Record`]),
-/// which must be the model's [`history_layout`] (checked).
-pub fn run_history_step<const W: usize, const F: usize, V: AddSlot>(
-    model: &Model,
-    dt: f64,
-    access: &mut ParticleSteps<'_, rsl_sphere, &mut [Record<W, F>], V>,
-    config: BatchConfig,
-) -> Result<BatchReport, Error> {
-    let layout = history_layout(model);
-    if layout != (HistoryLayout { first: F, words: W }) {
-        return Err(Error::InvalidArgument(format!(
-            "the model's history has {} words from word {}, not {W} from {F}",
-            layout.words, layout.first
-        )));
-    }
-    run_step(model, dt, access, config)
-}
-
-/// Decomposes every contact of `access` with the kernel of `config` (safe, as [`run_step`]).
-pub fn run_decompose<A: DecomposeAccess>(
-    options: GeometryOptions,
-    parts: Parts,
-    access: &mut A,
-    config: BatchConfig,
-) -> Result<BatchReport, Error> {
-    if !config.simd.available() {
-        return Err(Error::InvalidArgument(
-            "SIMD level not supported by this CPU".to_string(),
-        ));
-    }
-    if Gather::prefetching(&*access) {
-        Ok(decompose_at::<true, A>(options, parts, access, config))
-    } else {
-        Ok(decompose_at::<false, A>(options, parts, access, config))
-    }
-}
-
-/// The decomposition kernel of `config`'s level and precision (checked available by the
-/// caller), prefetching or not (`P`, as in [`run_step`]).
-fn decompose_at<const P: bool, A: DecomposeAccess>(
-    options: GeometryOptions,
-    parts: Parts,
-    access: &mut A,
-    config: BatchConfig,
-) -> BatchReport {
-    match config.simd {
-        Simd::Scalar if config.f32 => decompose_kernel::<P, f32, A>(options, parts, access),
-        Simd::Scalar => decompose_kernel::<P, f64, A>(options, parts, access),
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: the caller checked `available()`: AVX2 and FMA.
-        Simd::Avx2 => unsafe { x86::decompose_avx2::<P, A>(options, parts, config.f32, access) },
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: the caller checked `available()`: AVX-512 F/VL/DQ/BW, AVX2 and FMA.
-        Simd::Avx512 => unsafe {
-            x86::decompose_avx512::<P, A>(options, parts, config.f32, access)
-        },
-        #[cfg(not(target_arch = "x86_64"))]
-        _ => unreachable!("only the scalar level is available off x86-64"),
-    }
-}
-
-/// Borrows `n` elements of an input array; NULL is allowed only for `n = 0`.
-///
-/// # Safety
-/// `p` must be NULL or point to `n` initialised `T` not written during the call.
-pub(crate) unsafe fn slice_in<'a, T>(
-    p: *const T,
-    n: usize,
-    name: &'static str,
-) -> Result<&'a [T], FfiError> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if p.is_null() {
-        return Err(FfiError::NullPointer(name));
-    }
-    if !p.is_aligned() {
-        return Err(FfiError::Misaligned(name));
-    }
-    if n.checked_mul(std::mem::size_of::<T>())
-        .is_none_or(|bytes| bytes > isize::MAX as usize)
-    {
-        return Err(FfiError::Core(Error::InvalidArgument(format!(
-            "{name}: array length {n} too large"
-        ))));
-    }
-    // SAFETY: non-null, aligned, size within isize::MAX (checked above); validity for `n`
-    // elements is the caller's documented contract.
-    Ok(unsafe { std::slice::from_raw_parts(p, n) })
-}
-
-/// Borrows `n` elements of an output (or in-out) array; NULL is allowed only for `n = 0`.
-///
-/// # Safety
-/// `p` must be NULL or point to `n` writable `T` not aliased by any other argument.
-unsafe fn slice_out<'a, T>(
-    p: *mut T,
-    n: usize,
-    name: &'static str,
-) -> Result<&'a mut [T], FfiError> {
-    // SAFETY: forwarded contract (checks in `slice_in`).
-    let s = unsafe { slice_in(p as *const T, n, name)? };
-    let len = s.len();
-    if len == 0 {
-        return Ok(&mut []);
-    }
-    // SAFETY: as `slice_in`; exclusivity is the caller's contract.
-    Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
 }
 
 /// A call-level error (nothing processed): the report, if any, says so with the error's status.

@@ -2,17 +2,20 @@
 //! `rsl_contact_step_wall`, the state the host stores per contact, and the time-step helpers.
 #![allow(non_camel_case_types)]
 
-use super::batch::Simd;
-#[cfg(target_arch = "x86_64")]
-use super::finite::Avx2;
-use super::finite::{FiniteTest, Portable};
-use super::model::live_model;
+pub use super::types::{rsl_contact_energy, rsl_contact_loads};
+pub use crate::layout::{rsl_contact_input, rsl_contact_state};
+
+use super::handle::{live_model, rsl_model, PairSteps};
 use super::status::FfiError;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{checked_pointer, guard, guard_status, input, output};
+use crate::batch::dispatch::pair_steps_avx2;
 use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
 use crate::laws::checked::{contact_step_pair, contact_step_wall};
+#[cfg(target_arch = "x86_64")]
+use crate::laws::fast_path::finite::Avx2;
+use crate::laws::fast_path::finite::{FiniteTest, Portable};
 use crate::laws::fast_path::{step_outputs_finite, step_pair_if_valid};
 use crate::laws::model::Model;
 use crate::laws::stability::{coupled_critical_time_step, rotational_critical_time_step};
@@ -79,164 +82,6 @@ pub const RSL_SLIP_TWISTING: u32 = 4;
 /// Slip flag: a fragile bond (`RSL_INPUT_FRAGILE_BOND`) broke this step (with
 /// `RSL_SLIP_SLIDING`); step the contact without its adhesion from now on.
 pub const RSL_SLIP_BOND_BROKEN: u32 = 8;
-
-/// The history a host stores for each contact: plain data, copy it freely. All bytes zero
-/// (`rsl_contact_state_init` or memset) is a fresh contact.
-///
-/// The host decides when a contact begins and ends; the library steps any pair it is given,
-/// touching or not (a cohesive contact keeps acting past first separation, and only the host
-/// knows its law). When the host ends a contact (the pair no longer overlaps, or leaves the
-/// neighbour list, or a cohesive bond breaks), it resets the state, as LAMMPS, LIGGGHTS and
-/// YADE drop a contact's history: otherwise the stored springs act again, with their old
-/// loads, when the pair touches later. The overlap is the host's own (it computed `f_n` from
-/// it), or `rsl_decomposition.overlap` (negative once the spheres separate).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_contact_state {
-    /// Sliding spring `xi_s` (length, tangential). YADE preset: the elastic shear force on body 1.
-    pub sliding_spring: rsl_vec3,
-    /// Rolling spring: `xi_r` (length) in the length form, `theta_r` (rad) in the angle form.
-    /// YADE and LIGGGHTS presets: the elastic rolling moment on body 1 (their codes store it).
-    pub rolling_spring: rsl_vec3,
-    /// Twisting angle `theta_tw` (rad). YADE preset: its twisting moment along the previous normal.
-    pub twisting_angle: f64,
-    /// YADE preset only: the part of its vector twisting moment off the previous normal (YADE
-    /// transports the twisting moment as a vector); zero for every other model.
-    pub twisting_offaxis: rsl_vec3,
-    /// Normal of the previous step (zero before the first step).
-    pub previous_normal: rsl_vec3,
-    /// `RSL_SLIP_*` bits of the last step (information only; not read by the library).
-    pub slip_flags: u32,
-    /// Padding; keep 0.
-    pub reserved: u32,
-}
-
-/// Per-call inputs of a contact step. Zero-initialise it and set what the model needs:
-/// `normal_force` and `dt` always.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_contact_input {
-    /// Normal force `f_n`, signed: compressive positive, tensile (cohesive, or a dashpot pulling
-    /// during unloading) negative. Applied to both bodies as given (body 1 gets `-f_n n`, body
-    /// 2 `+f_n n`). The limits use `limit_force` with `RSL_INPUT_LIMIT_FORCE`, else the
-    /// preset's rule: `max(f_n, 0)` for the objective and YADE_2023 presets (no friction while
-    /// the contact pulls, as YADE without adhesion), `|f_n|` for LAMMPS_2021 and LIGGGHTS_3_8
-    /// (LAMMPS' `Fncrit` of its non-cohesive models, LIGGGHTS' `|Fn|`).
-    pub normal_force: f64,
-    /// Time step (> 0).
-    pub dt: f64,
-    /// Normal stiffness `k_n` (force/length): needed by EPSD-derived rolling stiffness and
-    /// LIGGGHTS' cdt.
-    pub normal_stiffness: f64,
-    /// Contact radius `a` for Marshall twisting; 0 means `sqrt(delta R_eff)`.
-    pub contact_radius: f64,
-    /// Mass of body 1 (damping-ratio rolling damping only).
-    pub mass1: f64,
-    /// Mass of body 2 (ignored for walls); +INFINITY for a fixed body.
-    pub mass2: f64,
-    /// Moment of inertia of body 1 (damping-ratio rolling damping only).
-    pub inertia1: f64,
-    /// Moment of inertia of body 2 (ignored for walls); +INFINITY for a fixed body.
-    pub inertia2: f64,
-    /// Per-contact `k_t`, used with `RSL_INPUT_SLIDING_STIFFNESS`.
-    pub sliding_stiffness: f64,
-    /// Per-contact `gamma_t`, used with `RSL_INPUT_SLIDING_DAMPING`.
-    pub sliding_damping: f64,
-    /// Force used by the limits (>= 0), with `RSL_INPUT_LIMIT_FORCE`. +INFINITY: no limit
-    /// (every limit is infinite, except that a zero coefficient still gives a zero limit);
-    /// refused with `RSL_ERR_INVALID_ARGUMENT` for the cdt rolling law outside LIGGGHTS_3_8,
-    /// whose moment is `mu_r R_r` times this force.
-    pub limit_force: f64,
-    /// Per-contact rolling stiffness, with `RSL_INPUT_ROLLING_STIFFNESS`.
-    pub rolling_stiffness: f64,
-    /// Per-contact rolling damping, with `RSL_INPUT_ROLLING_DAMPING`.
-    pub rolling_damping: f64,
-    /// Per-contact rolling limit coefficient, with `RSL_INPUT_ROLLING_FRICTION` (+INFINITY: no
-    /// limit, even at zero force). Refused with `RSL_ERR_INVALID_ARGUMENT` where it is not a
-    /// limit: for cdt (it sets the moment) and for the `RSL_STIFFNESS_EPSD`/`EPSD3` rules
-    /// without `RSL_INPUT_ROLLING_STIFFNESS` (they derive the stiffness from it).
-    pub rolling_friction: f64,
-    /// Per-contact twisting stiffness, with `RSL_INPUT_TWISTING_STIFFNESS`.
-    pub twisting_stiffness: f64,
-    /// Per-contact twisting damping, with `RSL_INPUT_TWISTING_DAMPING`.
-    pub twisting_damping: f64,
-    /// Per-contact twisting limit length, with `RSL_INPUT_TWISTING_FRICTION` (+INFINITY: no
-    /// limit, even at zero force).
-    pub twisting_friction: f64,
-    /// Shear adhesion of a cohesive bond (force, >= 0; +INFINITY: no sliding limit while
-    /// bonded), with `RSL_INPUT_SHEAR_ADHESION`: added to the sliding limit (see the flag). YADE
-    /// CohFrict: the contact's `shearAdhesion`, `shearCohesion min(R1, R2)^2`. Added in 0.2.0
-    /// (the struct grew by 8 bytes).
-    pub shear_adhesion: f64,
-    /// OR of `RSL_INPUT_*`.
-    pub flags: u32,
-    /// Padding; keep 0.
-    pub reserved: u32,
-}
-
-/// Energy terms of one step (load times length; 0 unless the model tracks energy).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_contact_energy {
-    /// Elastic energy in the sliding spring after the step.
-    pub elastic_sliding: f64,
-    /// Elastic energy in the rolling spring after the step.
-    pub elastic_rolling: f64,
-    /// Elastic energy in the twisting spring after the step.
-    pub elastic_twisting: f64,
-    /// Dissipated by the sliding dashpot this step.
-    pub dashpot_sliding: f64,
-    /// Dissipated by the rolling dashpot (viscous law included) this step.
-    pub dashpot_rolling: f64,
-    /// Dissipated by the twisting dashpot this step.
-    pub dashpot_twisting: f64,
-    /// Dissipated by the sliding slider (friction) this step.
-    pub slider_sliding: f64,
-    /// Dissipated by the rolling slider (cdt included) this step.
-    pub slider_rolling: f64,
-    /// Dissipated by the twisting slider this step.
-    pub slider_twisting: f64,
-    /// Change of elastic energy caused by transporting the springs this step (0 to rounding
-    /// for exact and project-rescale transport).
-    pub transport: f64,
-}
-
-/// Loads of one contact step. Body 2 receives `-force1` and `torque2`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_contact_loads {
-    /// Force on body 1: `-f_n n + F_t`.
-    pub force1: rsl_vec3,
-    /// Torque on body 1 about its centre.
-    pub torque1: rsl_vec3,
-    /// Torque on body 2 about its centre (wall: about the contact point).
-    pub torque2: rsl_vec3,
-    /// Sliding force `F_t` on body 1.
-    pub sliding_force: rsl_vec3,
-    /// Rolling moment on body 1 (body 2 gets its opposite).
-    pub rolling_moment: rsl_vec3,
-    /// Twisting torque on body 1, `M_tw n` (YADE preset: its vector twisting moment); body 2
-    /// gets the opposite.
-    pub twisting_torque: rsl_vec3,
-    /// Energy terms.
-    pub energy: rsl_contact_energy,
-    /// `RSL_SLIP_*` bits.
-    pub slip_flags: u32,
-    /// Padding.
-    pub reserved: u32,
-}
-
-impl From<&rsl_contact_state> for ContactState<f64> {
-    fn from(s: &rsl_contact_state) -> Self {
-        ContactState {
-            sliding_spring: s.sliding_spring.into(),
-            rolling_spring: s.rolling_spring.into(),
-            twisting_angle: s.twisting_angle,
-            twisting_offaxis: s.twisting_offaxis.into(),
-            previous_normal: s.previous_normal.into(),
-        }
-    }
-}
 
 #[inline(always)]
 fn step_input(i: &rsl_contact_input) -> Result<StepInput<f64>, Error> {
@@ -383,7 +228,7 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
 /// point to a writable `rsl_contact_state`.
 #[no_mangle]
 pub unsafe extern "C" fn rsl_contact_state_swap(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     state: *mut rsl_contact_state,
 ) -> i32 {
     guard(|| {
@@ -550,53 +395,10 @@ impl LoadsSink for SphereAccumulators {
     }
 }
 
-/// `rsl_contact_step`'s signature: the handle's step on this CPU, which the entry
-/// calls in tail position with its own arguments once it has checked them (every pointer
-/// non-NULL and 8-aligned, the handle live). The same signature lets the compiler make that
-/// call a jump: no second frame, no copy of the arguments.
-pub(crate) type OutStep = unsafe extern "C" fn(
-    *const super::model::rsl_model,
-    *const rsl_sphere,
-    *const rsl_sphere,
-    *const rsl_contact_input,
-    *mut rsl_contact_state,
-    *mut rsl_contact_loads,
-) -> i32;
-
-/// `rsl_contact_step_accumulate`'s signature, for the same purpose as [`OutStep`] (its last
-/// three pointers arrive on the stack, and a jump leaves them where the host put them).
-pub(crate) type AccumulateStep = unsafe extern "C" fn(
-    *const super::model::rsl_model,
-    *const rsl_sphere,
-    *const rsl_sphere,
-    *const rsl_contact_input,
-    *mut rsl_contact_state,
-    *mut rsl_vec3,
-    *mut rsl_vec3,
-    *mut rsl_vec3,
-    *mut rsl_vec3,
-) -> i32;
-
-/// The per-contact steps on this CPU, one per C entry, kept in the model handle. Each
-/// runs the fast path for a plain input and the checked step (which reports) for
-/// anything else and anything the fast path refuses, behind the panic boundary.
-#[derive(Clone, Copy)]
-pub(crate) struct PairSteps {
-    /// `rsl_contact_step`.
-    pub(crate) out: OutStep,
-    /// `rsl_contact_step_accumulate`.
-    pub(crate) accumulate: AccumulateStep,
-}
-
-/// The per-contact steps (the model handle keeps them), built for AVX2 when this CPU has it
-/// (Rust never contracts to FMA, so every build gives the same bits).
-///
-/// A build with `--cfg rollslide_portable_pair_steps` (in `RUSTFLAGS`) always takes the
-/// portable steps: `scripts/sanitizers.sh` uses one under valgrind 3.19, whose decoder rejects
-/// an AVX encoding LLVM emits in some AVX2 steps (see that script).
+/// The per-contact steps (the model handle keeps them): the AVX2 builds where the core's
+/// kernel choice takes them ([`pair_steps_avx2`]), else the portable ones.
 pub(crate) fn pair_steps() -> PairSteps {
-    let avx2 = !cfg!(rollslide_portable_pair_steps) && Simd::Avx2.available();
-    pair_steps_built(avx2)
+    pair_steps_built(pair_steps_avx2())
 }
 
 /// The AVX2 builds of the steps or the portable ones. Only a CPU with AVX2 and FMA may call the
@@ -627,7 +429,7 @@ fn pair_steps_built(avx2: bool) -> PairSteps {
 #[inline(always)]
 unsafe fn entered_step<F: FiniteTest, K: PairSink>(
     test: F,
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
@@ -661,7 +463,7 @@ macro_rules! entry_steps {
         #[target_feature(enable = "avx2,fma")]
         #[allow(clippy::too_many_arguments)]
         unsafe extern "C" fn $avx2(
-            model: *const super::model::rsl_model,
+            model: *const rsl_model,
             body1: *const rsl_sphere,
             body2: *const rsl_sphere,
             contact: *const rsl_contact_input,
@@ -684,7 +486,7 @@ macro_rules! entry_steps {
         /// As the AVX2 build, on any CPU.
         #[allow(clippy::too_many_arguments)]
         unsafe extern "C" fn $portable(
-            model: *const super::model::rsl_model,
+            model: *const rsl_model,
             body1: *const rsl_sphere,
             body2: *const rsl_sphere,
             contact: *const rsl_contact_input,
@@ -702,14 +504,15 @@ macro_rules! entry_steps {
 }
 
 entry_steps! {
-    /// `rsl_contact_step`'s step, entered from it (see [`OutStep`]).
+    /// `rsl_contact_step`'s step, entered from it (see [`OutStep`](super::handle::OutStep)).
     out_step_avx2, out_step_portable,
     (out: *mut rsl_contact_loads),
     LoadsOut::new(out)
 }
 
 entry_steps! {
-    /// `rsl_contact_step_accumulate`'s step, entered from it (see [`AccumulateStep`]).
+    /// `rsl_contact_step_accumulate`'s step, entered from it (see
+    /// [`AccumulateStep`](super::handle::AccumulateStep)).
     accumulate_step_avx2, accumulate_step_portable,
     (force1: *mut rsl_vec3, torque1: *mut rsl_vec3, force2: *mut rsl_vec3, torque2: *mut rsl_vec3),
     Accumulators::new(force1, torque1, force2, torque2)
@@ -720,7 +523,7 @@ entry_steps! {
 #[inline(always)]
 fn pair_step_with<F: FiniteTest, K: PairSink>(
     test: F,
-    m: &super::model::rsl_model,
+    m: &rsl_model,
     body1: &rsl_sphere,
     body2: &rsl_sphere,
     input: &rsl_contact_input,
@@ -945,7 +748,7 @@ fn checked_step_with(
 /// overlap each other or the inputs. The model must not be modified during the call.
 #[no_mangle]
 pub unsafe extern "C" fn rsl_contact_step(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
@@ -981,7 +784,7 @@ pub unsafe extern "C" fn rsl_contact_step(
 #[cold]
 #[inline(never)]
 unsafe fn out_step_reporting(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
@@ -1007,7 +810,7 @@ unsafe fn out_step_reporting(
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 unsafe fn accumulate_step_reporting(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
@@ -1042,7 +845,7 @@ unsafe fn accumulate_step_reporting(
 /// As `rsl_contact_step` for the pointers given here.
 #[inline(always)]
 unsafe fn pair_step_reporting<K: LoadsSink>(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
@@ -1088,7 +891,7 @@ unsafe fn pair_step_reporting<K: LoadsSink>(
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn rsl_contact_step_accumulate(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     body1: *const rsl_sphere,
     body2: *const rsl_sphere,
     contact: *const rsl_contact_input,
@@ -1130,7 +933,7 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate(
 
 // The per-contact fast path tests every pointer for 8-byte alignment at once.
 const _: () = {
-    assert!(std::mem::align_of::<super::model::rsl_model>() == 8);
+    assert!(std::mem::align_of::<rsl_model>() == 8);
     assert!(std::mem::align_of::<rsl_sphere>() == 8);
     assert!(std::mem::align_of::<rsl_contact_input>() == 8);
     assert!(std::mem::align_of::<rsl_contact_state>() == 8);
@@ -1175,7 +978,7 @@ fn wall_step_checked(
 /// As `rsl_contact_step`.
 #[no_mangle]
 pub unsafe extern "C" fn rsl_contact_step_wall(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     sphere: *const rsl_sphere,
     wall: *const rsl_wall,
     contact: *const rsl_contact_input,
@@ -1196,7 +999,7 @@ pub unsafe extern "C" fn rsl_contact_step_wall(
 /// # Safety
 /// As `rsl_contact_step_wall` for the pointers given here.
 unsafe fn wall_step_reporting<K: LoadsSink>(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     sphere: *const rsl_sphere,
     wall: *const rsl_wall,
     contact: *const rsl_contact_input,
@@ -1232,7 +1035,7 @@ unsafe fn wall_step_reporting<K: LoadsSink>(
 /// As `rsl_contact_step_accumulate`.
 #[no_mangle]
 pub unsafe extern "C" fn rsl_contact_step_wall_accumulate(
-    model: *const super::model::rsl_model,
+    model: *const rsl_model,
     sphere: *const rsl_sphere,
     wall: *const rsl_wall,
     contact: *const rsl_contact_input,
@@ -1313,13 +1116,14 @@ pub unsafe extern "C" fn rsl_coupled_critical_time_step(
 }
 
 #[cfg(test)]
-pub(super) mod tests {
+mod tests {
     //! `rsl_contact_step`'s fast path (a plain input) against its checked path, reached with a
     //! sliding-stiffness override equal to the model's `k_t` (the same physics).
     use super::*;
-    use crate::capi::model::rsl_model;
+    use crate::batch::dispatch::Simd;
     use crate::capi::status::RSL_OK;
     use crate::laws::model::{Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
+    use crate::layout::tests::state_bits;
     use crate::scalar::Vec3;
 
     struct Lcg(u64);
@@ -1429,27 +1233,6 @@ pub(super) mod tests {
             ..Default::default()
         };
         (b1, b2, input, state)
-    }
-
-    /// Every field of a state as bits (so that NaN compares and -0 differs from 0).
-    pub(crate) fn state_bits(s: &rsl_contact_state) -> Vec<u64> {
-        let vectors = [
-            s.sliding_spring,
-            s.rolling_spring,
-            s.twisting_offaxis,
-            s.previous_normal,
-        ];
-        let mut b: Vec<u64> = vectors
-            .iter()
-            .flat_map(|v| [v.x, v.y, v.z])
-            .map(f64::to_bits)
-            .collect();
-        b.extend([
-            s.twisting_angle.to_bits(),
-            s.slip_flags as u64,
-            s.reserved as u64,
-        ]);
-        b
     }
 
     /// The accumulators' values before a step: distinct, non-zero, so that each add shows.
@@ -1583,8 +1366,7 @@ pub(super) mod tests {
             }
             levels += 1;
             for model in models() {
-                let mut handle = rsl_model::live(model);
-                handle.pair_steps = pair_steps_built(avx2);
+                let handle = rsl_model::live(model, pair_steps_built(avx2));
                 for _ in 0..100 {
                     let mut c = case(&mut rng);
                     for _ in 0..3 {
@@ -1651,517 +1433,6 @@ pub(super) mod tests {
             .into_iter()
             .nth(i - 33)
             .unwrap(),
-        }
-    }
-}
-
-#[cfg(test)]
-mod extreme_input_tests {
-    //! Finite but extreme inputs through the C ABI (loads whose squared length overflows, wall
-    //! normals of any length, a wall's unread `l2`), and the argument names in the messages.
-    use super::*;
-    use crate::capi::decompose::rsl_decompose_wall;
-    use crate::capi::model::*;
-    use crate::capi::status::{
-        rsl_last_error_message, RSL_ERR_INVALID_ARGUMENT, RSL_ERR_MISALIGNED, RSL_ERR_NON_FINITE,
-        RSL_ERR_NULL_POINTER, RSL_OK,
-    };
-    use crate::capi::types::rsl_decomposition;
-    use std::ffi::CStr;
-
-    const EPS: f64 = f64::EPSILON;
-
-    fn vec3(x: f64, y: f64, z: f64) -> rsl_vec3 {
-        rsl_vec3 { x, y, z }
-    }
-
-    fn norm(v: &rsl_vec3) -> f64 {
-        (v.x * v.x + v.y * v.y + v.z * v.z).sqrt()
-    }
-
-    fn sphere(position: rsl_vec3, velocity: rsl_vec3, spin: rsl_vec3, radius: f64) -> rsl_sphere {
-        rsl_sphere {
-            position,
-            velocity,
-            angular_velocity: spin,
-            radius,
-        }
-    }
-
-    /// A live model handle, freed on drop.
-    struct Handle(*mut rsl_model);
-
-    impl Drop for Handle {
-        fn drop(&mut self) {
-            // SAFETY: a live handle from `rsl_model_new`, freed once.
-            unsafe { rsl_model_free(self.0) }
-        }
-    }
-
-    /// A model of `preset` with every law off.
-    fn model(preset: i32) -> Handle {
-        let mut p = std::ptr::null_mut();
-        // SAFETY: `p` is a valid out pointer.
-        assert_eq!(unsafe { rsl_model_new(preset, &mut p) }, RSL_OK);
-        Handle(p)
-    }
-
-    /// A model of `preset` with the reported sliding law: k_t 1e5, gamma_t 5, mu_s 0.5.
-    fn sliding_model(preset: i32) -> Handle {
-        let m = model(preset);
-        // SAFETY: a live handle, used by this thread only.
-        let status = unsafe { rsl_model_set_sliding(m.0, RSL_SLIDING_LINEAR, 1e5, 5.0, 0.5) };
-        assert_eq!(status, RSL_OK);
-        m
-    }
-
-    /// A model of `preset` with the given rolling law (sliding off).
-    fn rolling_model(preset: i32, law: i32, stiffness: f64, damping: f64, friction: f64) -> Handle {
-        let m = model(preset);
-        // SAFETY: live handle; all-zero is a valid value of this plain struct.
-        unsafe {
-            let mut r: rsl_rolling_params = std::mem::zeroed();
-            assert_eq!(rsl_model_get_rolling(m.0, &mut r), RSL_OK);
-            r.law = law;
-            (r.stiffness, r.damping, r.friction) = (stiffness, damping, friction);
-            assert_eq!(rsl_model_set_rolling(m.0, &r), RSL_OK);
-        }
-        m
-    }
-
-    fn last_error() -> String {
-        // SAFETY: a NUL-terminated thread-local string, valid until the next failing call.
-        unsafe { CStr::from_ptr(rsl_last_error_message()) }
-            .to_str()
-            .unwrap()
-            .to_string()
-    }
-
-    fn step(
-        m: &Handle,
-        b1: &rsl_sphere,
-        b2: &rsl_sphere,
-        input: &rsl_contact_input,
-        state: &mut rsl_contact_state,
-    ) -> (i32, rsl_contact_loads) {
-        let mut out = rsl_contact_loads::default();
-        // SAFETY: every pointer is to a live local of the right type; none overlap.
-        let status = unsafe { rsl_contact_step(m.0, b1, b2, input, state, &mut out) };
-        (status, out)
-    }
-
-    /// The reported geometry: R = 1 and 0.7, centres 1.65 apart along (0.6, 0.8, 0) (overlap
-    /// 0.05), body 1 moving at `v1`, body 2 at `-v1`.
-    fn reported_pair(v1: rsl_vec3) -> (rsl_sphere, rsl_sphere) {
-        let zero = rsl_vec3::default();
-        let b1 = sphere(zero, v1, zero, 1.0);
-        let b2 = sphere(
-            vec3(0.6 * 1.65, 0.8 * 1.65, 0.0),
-            vec3(-v1.x, -v1.y, -v1.z),
-            zero,
-            0.7,
-        );
-        (b1, b2)
-    }
-
-    fn input(normal_force: f64) -> rsl_contact_input {
-        rsl_contact_input {
-            normal_force,
-            dt: 1e-4,
-            ..Default::default()
-        }
-    }
-
-    /// Asserts `v` = `expected` to `tol` relative to `|expected|`, component by component.
-    #[track_caller]
-    fn assert_close(v: &rsl_vec3, expected: rsl_vec3, tol: f64, what: &str) {
-        let scale = norm(&expected);
-        for (a, b) in [(v.x, expected.x), (v.y, expected.y), (v.z, expected.z)] {
-            assert!(
-                (a - b).abs() <= tol * scale,
-                "{what}: {v:?}, expected {expected:?} (to {tol:e} relative)"
-            );
-        }
-    }
-
-    /// The reported case: sliding at +-1e155 along z, normal (0.6, 0.8, 0). The trial load is
-    /// `-k_t xi - gamma_t v_s = -(1e5 2e151 + 5 2e155) z = -3e156 z`, whose squared length
-    /// (9e312) overflows: the clip must still give the Coulomb load `mu_s f_n = 50` against the
-    /// sliding (-z), not zero, and leave the spring at `-(F_t + gamma_t v_s)/k_t`. A stored
-    /// spring of 1e150 z (no motion; trial load -1e155 z) must be reset to the Coulomb limit
-    /// `mu_s f_n / k_t = 5e-4` along it, not to zero. Tolerance 4 eps: the limit 50 is exact
-    /// and the direction `load / max|load_k|` is exact here, so only a few roundings remain.
-    #[test]
-    fn huge_sliding_loads_are_clipped_to_the_coulomb_limit() {
-        let m = sliding_model(RSL_PRESET_OBJECTIVE);
-        let (b1, b2) = reported_pair(vec3(0.0, 0.0, 1e155));
-        let mut state = rsl_contact_state::default();
-        let (status, out) = step(&m, &b1, &b2, &input(100.0), &mut state);
-        assert_eq!(status, RSL_OK, "{}", last_error());
-        assert_eq!(out.slip_flags & RSL_SLIP_SLIDING, RSL_SLIP_SLIDING);
-        assert_close(&out.sliding_force, vec3(0.0, 0.0, -50.0), 4.0 * EPS, "F_t");
-        // xi = -(F_t + gamma_t v_s)/k_t = -(-50 + 1e156)/1e5 z: -1e151 to rounding.
-        let xi = state.sliding_spring;
-        assert_close(&xi, vec3(0.0, 0.0, -1e151), 4.0 * EPS, "spring");
-        assert_eq!(state.slip_flags, out.slip_flags);
-
-        // A stored spring of 1e150 along z, nothing moving.
-        let (b1, b2) = reported_pair(rsl_vec3::default());
-        for (preset, name) in [
-            (RSL_PRESET_OBJECTIVE, "objective (total clip)"),
-            (RSL_PRESET_LAMMPS_2021, "LAMMPS (its clip)"),
-            (RSL_PRESET_LIGGGHTS_3_8, "LIGGGHTS (spring-only clip)"),
-        ] {
-            let m = sliding_model(preset);
-            let mut state = rsl_contact_state {
-                sliding_spring: vec3(0.0, 0.0, 1e150),
-                ..Default::default()
-            };
-            let (status, out) = step(&m, &b1, &b2, &input(100.0), &mut state);
-            assert_eq!(status, RSL_OK, "{name}: {}", last_error());
-            assert_eq!(
-                out.slip_flags & RSL_SLIP_SLIDING,
-                RSL_SLIP_SLIDING,
-                "{name}"
-            );
-            assert_close(&out.sliding_force, vec3(0.0, 0.0, -50.0), 4.0 * EPS, name);
-            let limit = vec3(0.0, 0.0, 5e-4);
-            assert_close(&state.sliding_spring, limit, 4.0 * EPS, name);
-        }
-        // YADE stores the elastic shear force itself: 1e160 along z is clipped to 50 along z.
-        let m = sliding_model(RSL_PRESET_YADE_2023);
-        let mut state = rsl_contact_state {
-            sliding_spring: vec3(0.0, 0.0, 1e160),
-            ..Default::default()
-        };
-        let (status, out) = step(&m, &b1, &b2, &input(100.0), &mut state);
-        assert_eq!(status, RSL_OK, "YADE: {}", last_error());
-        assert_close(
-            &out.sliding_force,
-            vec3(0.0, 0.0, 50.0),
-            4.0 * EPS,
-            "YADE F_t",
-        );
-        assert_close(
-            &state.sliding_spring,
-            vec3(0.0, 0.0, 50.0),
-            4.0 * EPS,
-            "YADE",
-        );
-
-        // The same against a wall (sphere 1 of the pair; the wall's outward normal -n).
-        let m = sliding_model(RSL_PRESET_OBJECTIVE);
-        let (b1, _) = reported_pair(vec3(0.0, 0.0, 1e155));
-        let wall = rsl_wall {
-            point: vec3(0.6 * 0.99, 0.8 * 0.99, 0.0),
-            normal: vec3(-0.6, -0.8, 0.0),
-            velocity: vec3(0.0, 0.0, -1e155),
-            angular_velocity: rsl_vec3::default(),
-        };
-        let mut state = rsl_contact_state::default();
-        let mut out = rsl_contact_loads::default();
-        // SAFETY: every pointer is to a live local of the right type; none overlap.
-        let status =
-            unsafe { rsl_contact_step_wall(m.0, &b1, &wall, &input(100.0), &mut state, &mut out) };
-        assert_eq!(status, RSL_OK, "wall: {}", last_error());
-        assert_close(
-            &out.sliding_force,
-            vec3(0.0, 0.0, -50.0),
-            4.0 * EPS,
-            "wall F_t",
-        );
-    }
-
-    /// The rolling laws and YADE's vector twisting law clip (or normalise) vectors as the
-    /// sliding law does: a moment whose squared length overflows must come out at its limit,
-    /// not zero. Limits (f_n = 100, R_r from `rsl_decompose`): EPSD and viscous rolling
-    /// (length form) `mu_r f_n R_r`, cdt `mu_r f_n R_r` (its only magnitude), YADE twisting
-    /// `mu_tw f_n`. Tolerance 8 eps: the limit and R_r carry a few roundings each.
-    #[test]
-    fn huge_rolling_and_twisting_moments_are_clipped_to_their_limits() {
-        let (b1, b2) = reported_pair(rsl_vec3::default());
-        let mut d = rsl_decomposition::default();
-        // SAFETY: live locals of the right types.
-        let status =
-            unsafe { crate::capi::decompose::rsl_decompose(&b1, &b2, std::ptr::null(), &mut d) };
-        assert_eq!(status, RSL_OK);
-        let (mu_r, f_n) = (0.1, 100.0);
-        let moment_limit = mu_r * f_n * d.rolling_radius;
-        // A spin difference of 1e160 about z: |(w1 - w2) x n| = 1e160 (n in the xy plane).
-        let spinning = rsl_sphere {
-            angular_velocity: vec3(0.0, 0.0, 1e160),
-            ..b1
-        };
-        let cases: [(&str, Handle, rsl_sphere, rsl_contact_state); 3] = [
-            (
-                "EPSD rolling, stored spring 1e150",
-                rolling_model(RSL_PRESET_OBJECTIVE, RSL_ROLLING_EPSD, 1e5, 1.0, mu_r),
-                b1,
-                rsl_contact_state {
-                    rolling_spring: vec3(0.0, 0.0, 1e150),
-                    ..Default::default()
-                },
-            ),
-            (
-                "viscous rolling, spin 1e160",
-                rolling_model(RSL_PRESET_OBJECTIVE, RSL_ROLLING_VISCOUS, 0.0, 10.0, mu_r),
-                spinning,
-                rsl_contact_state::default(),
-            ),
-            (
-                "cdt rolling, spin 1e160",
-                rolling_model(RSL_PRESET_OBJECTIVE, RSL_ROLLING_CDT, 0.0, 0.0, mu_r),
-                spinning,
-                rsl_contact_state::default(),
-            ),
-        ];
-        for (what, m, body1, state0) in cases {
-            let mut state = state0;
-            let (status, out) = step(&m, &body1, &b2, &input(f_n), &mut state);
-            assert_eq!(status, RSL_OK, "{what}: {}", last_error());
-            assert_eq!(
-                out.slip_flags & RSL_SLIP_ROLLING,
-                RSL_SLIP_ROLLING,
-                "{what}"
-            );
-            let size = norm(&out.rolling_moment);
-            assert!(
-                (size - moment_limit).abs() <= 8.0 * EPS * moment_limit,
-                "{what}: |M_r| = {size:e}, limit {moment_limit:e}"
-            );
-        }
-        // YADE's twisting moment is a vector, stored along the previous normal.
-        let m = model(RSL_PRESET_YADE_2023);
-        // SAFETY: a live handle, used by this thread only.
-        let status = unsafe { rsl_model_set_twisting(m.0, RSL_TWISTING_SDS, 10.0, 0.0, 0.05) };
-        assert_eq!(status, RSL_OK);
-        let mut state = rsl_contact_state {
-            twisting_angle: 1e160,
-            ..Default::default()
-        };
-        let (status, out) = step(&m, &b1, &b2, &input(f_n), &mut state);
-        assert_eq!(status, RSL_OK, "YADE twisting: {}", last_error());
-        assert_eq!(out.slip_flags & RSL_SLIP_TWISTING, RSL_SLIP_TWISTING);
-        let size = norm(&out.twisting_torque);
-        let limit = 0.05 * f_n;
-        assert!(
-            (size - limit).abs() <= 8.0 * EPS * limit,
-            "YADE twisting: |M_tw| = {size:e}, limit {limit:e}"
-        );
-    }
-
-    /// The sphere of the C tests on a floor (height 0.69, R = 0.7), moving and spinning.
-    fn floor_sphere() -> rsl_sphere {
-        sphere(
-            vec3(0.3, 0.2, 0.69),
-            vec3(0.1, -0.2, 0.05),
-            vec3(1.0, 0.5, -2.0),
-            0.7,
-        )
-    }
-
-    fn wall_with_normal(normal: rsl_vec3) -> rsl_wall {
-        rsl_wall {
-            point: rsl_vec3::default(),
-            normal,
-            velocity: vec3(0.1, 0.0, 0.0),
-            angular_velocity: vec3(0.0, 0.0, 0.2),
-        }
-    }
-
-    fn decompose_wall(s: &rsl_sphere, w: &rsl_wall) -> (i32, rsl_decomposition) {
-        let mut d = rsl_decomposition::default();
-        // SAFETY: live locals of the right types.
-        let status = unsafe { rsl_decompose_wall(s, w, std::ptr::null(), &mut d) };
-        (status, d)
-    }
-
-    /// The header: "any non-zero length (it is normalised)". Lengths whose square overflows
-    /// (above ~1.3e154) or underflows (below ~1.5e-154, subnormal components included) are
-    /// normalised as well; a normal `s u` whose largest component is `s` gives exactly the
-    /// unit normal of `u` (its components divide to exact values), so the decomposition and the
-    /// step are the same bit for bit. Another direction agrees to 4 eps (a rounding or two of
-    /// each component).
-    #[test]
-    fn wall_normals_of_any_finite_nonzero_length_are_accepted() {
-        let s = floor_sphere();
-        let (status, unit) = decompose_wall(&s, &wall_with_normal(vec3(0.0, 0.0, 1.0)));
-        assert_eq!(status, RSL_OK);
-        let (status, tilted) = decompose_wall(&s, &wall_with_normal(vec3(0.0, 1.0, 1.0)));
-        assert_eq!(status, RSL_OK);
-        let m = sliding_model(RSL_PRESET_OBJECTIVE);
-        let wall_step = |w: &rsl_wall| {
-            let (mut state, mut out) = (rsl_contact_state::default(), rsl_contact_loads::default());
-            // SAFETY: every pointer is to a live local of the right type; none overlap.
-            let status =
-                unsafe { rsl_contact_step_wall(m.0, &s, w, &input(10.0), &mut state, &mut out) };
-            (status, format!("{state:?} {out:?}"))
-        };
-        let (status, unit_step) = wall_step(&wall_with_normal(vec3(0.0, 0.0, 1.0)));
-        assert_eq!(status, RSL_OK);
-        for scale in [
-            f64::MAX,
-            1e308,
-            1e200,
-            2e154,
-            1e-160,
-            1e-200,
-            1e-310,
-            1e-320,
-            f64::from_bits(1), // the smallest subnormal
-        ] {
-            let (status, d) = decompose_wall(&s, &wall_with_normal(vec3(0.0, 0.0, scale)));
-            assert_eq!(status, RSL_OK, "normal (0, 0, {scale:e}): {}", last_error());
-            assert_eq!(format!("{d:?}"), format!("{unit:?}"), "(0, 0, {scale:e})");
-            let (status, d) = decompose_wall(&s, &wall_with_normal(vec3(0.0, scale, scale)));
-            assert_eq!(status, RSL_OK, "normal (0, {scale:e}, {scale:e})");
-            assert_eq!(
-                format!("{d:?}"),
-                format!("{tilted:?}"),
-                "(0, s, s), s = {scale:e}"
-            );
-            let (status, step) = wall_step(&wall_with_normal(vec3(0.0, 0.0, scale)));
-            assert_eq!(
-                status,
-                RSL_OK,
-                "step, normal (0, 0, {scale:e}): {}",
-                last_error()
-            );
-            assert_eq!(step, unit_step, "step, normal (0, 0, {scale:e})");
-        }
-        // A direction whose components do not divide exactly: within 4 eps.
-        let u = vec3(0.3, -0.2, 1.0);
-        let (_, reference) = decompose_wall(&s, &wall_with_normal(u));
-        for scale in [1e300, 1e-300] {
-            let (status, d) = decompose_wall(
-                &s,
-                &wall_with_normal(vec3(u.x * scale, u.y * scale, u.z * scale)),
-            );
-            assert_eq!(status, RSL_OK, "scale {scale:e}: {}", last_error());
-            assert_close(&d.normal, reference.normal, 4.0 * EPS, "normal");
-        }
-        // Zero is still refused.
-        let (status, _) = decompose_wall(&s, &wall_with_normal(rsl_vec3::default()));
-        assert_eq!(status, RSL_ERR_INVALID_ARGUMENT);
-        assert!(last_error().contains("wall normal"), "{}", last_error());
-    }
-
-    /// `l2` enters the coupled bound only as `l2^2 / I2`: with `inertia2` = +INFINITY (a wall)
-    /// it is not read (any value, even NaN or the +inf of a wall's `branch2`, gives the bits of
-    /// `l2` = 0.2), as the header says; with a finite `inertia2` it is checked.
-    #[test]
-    fn coupled_time_step_reads_l2_only_for_a_finite_inertia2() {
-        let bound = |inertia2: f64, l2: f64| {
-            let mut dt = -1.0;
-            // SAFETY: `dt` is a live local.
-            let status = unsafe {
-                rsl_coupled_critical_time_step(
-                    100.0,
-                    4.0,
-                    1.0,
-                    f64::INFINITY,
-                    0.5,
-                    inertia2,
-                    0.3,
-                    l2,
-                    &mut dt,
-                )
-            };
-            (status, dt)
-        };
-        let (status, wall) = bound(f64::INFINITY, 0.2);
-        assert_eq!(status, RSL_OK);
-        // 2/sqrt(100 (1 + 0.3^2/0.5) + 4 (1/0.5)) = 2/sqrt(126).
-        assert!((wall - 2.0 / 126f64.sqrt()).abs() <= 4.0 * EPS * wall);
-        for l2 in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0, 0.0, 1e300] {
-            let (status, dt) = bound(f64::INFINITY, l2);
-            assert_eq!(status, RSL_OK, "wall, l2 = {l2}: {}", last_error());
-            assert_eq!(dt.to_bits(), wall.to_bits(), "wall, l2 = {l2}");
-        }
-        for (l2, expected) in [
-            (f64::NAN, RSL_ERR_NON_FINITE),
-            (f64::INFINITY, RSL_ERR_NON_FINITE),
-            (f64::NEG_INFINITY, RSL_ERR_NON_FINITE),
-            (-1.0, RSL_ERR_INVALID_ARGUMENT),
-            (0.0, RSL_ERR_INVALID_ARGUMENT),
-        ] {
-            let (status, dt) = bound(0.25, l2);
-            assert_eq!(status, expected, "inertia2 0.25, l2 = {l2}");
-            assert_eq!(dt, -1.0, "written on a refusal");
-            assert!(last_error().contains("l2"), "{}", last_error());
-        }
-        // The header documents it (the doc comment of rsl_coupled_critical_time_step).
-        let header = include_str!("../../include/rollslide.h");
-        let doc = header
-            .split("int32_t rsl_coupled_critical_time_step(")
-            .next()
-            .and_then(|before| before.rsplit(";\n").next())
-            .unwrap();
-        assert!(
-            doc.contains("`l2` is not read when `inertia2` is +INFINITY"),
-            "header doc: {doc}"
-        );
-    }
-
-    /// A NULL or misaligned `contact` (the input struct) is reported under the parameter's name
-    /// in the header, `contact`, by each of the four contact steps.
-    #[test]
-    fn a_bad_contact_pointer_is_reported_as_contact() {
-        let m = sliding_model(RSL_PRESET_OBJECTIVE);
-        let (b1, b2) = reported_pair(vec3(0.0, 0.0, 1.0));
-        let wall = wall_with_normal(vec3(0.0, 0.0, 1.0));
-        let s = floor_sphere();
-        let buffer = [0u64; 32];
-        // Never dereferenced: every step refuses it before reading.
-        let misaligned = (buffer.as_ptr() as *const u8).wrapping_add(1) as *const rsl_contact_input;
-        for (contact, status, message) in [
-            (
-                std::ptr::null(),
-                RSL_ERR_NULL_POINTER,
-                "null pointer: contact",
-            ),
-            (
-                misaligned,
-                RSL_ERR_MISALIGNED,
-                "misaligned pointer: contact",
-            ),
-        ] {
-            let mut state = rsl_contact_state::default();
-            let mut out = rsl_contact_loads::default();
-            let mut acc = [rsl_vec3::default(); 4];
-            let [f1, t1, f2, t2] = &mut acc;
-            // SAFETY: every other pointer is to a live local of the right type; `contact` is
-            // NULL or misaligned, which each function checks before reading it. Each message is
-            // read right after its call (a tuple evaluates left to right).
-            let results = unsafe {
-                [
-                    (
-                        rsl_contact_step(m.0, &b1, &b2, contact, &mut state, &mut out),
-                        last_error(),
-                    ),
-                    (
-                        rsl_contact_step_accumulate(
-                            m.0, &b1, &b2, contact, &mut state, f1, t1, f2, t2,
-                        ),
-                        last_error(),
-                    ),
-                    (
-                        rsl_contact_step_wall(m.0, &s, &wall, contact, &mut state, &mut out),
-                        last_error(),
-                    ),
-                    (
-                        rsl_contact_step_wall_accumulate(
-                            m.0, &s, &wall, contact, &mut state, f1, t1,
-                        ),
-                        last_error(),
-                    ),
-                ]
-            };
-            for (k, (got_status, got_message)) in results.iter().enumerate() {
-                assert_eq!(*got_status, status, "function {k}");
-                assert_eq!(got_message, message, "function {k}");
-            }
-            assert_eq!(state, rsl_contact_state::default(), "state written");
         }
     }
 }

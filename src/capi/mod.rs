@@ -4,24 +4,29 @@
 //! Rules (CONVENTIONS.md): `int32_t` status returns; outputs last and written only on success;
 //! every body behind one panic boundary (`guard`); only `#[repr(C)]` structs of doubles and
 //! fixed-width integers cross the boundary; option codes arrive as integers and are validated.
+//!
+//! The layer is thin: it converts and checks the arguments and calls the core, where the engine
+//! is (the batch kernels and their CPU dispatch in `batch::dispatch`, the per-contact fast path
+//! in `laws::fast_path`, the C structs they read in place in `layout`). Its modules import only
+//! lower ones, no cycle: `status` and `types` (leaves); this module's checks (imports `status`);
+//! `decompose` and `handle`; `contact` (imports `handle`); `model` (imports `contact`, `decompose`,
+//! `handle`) and `batch` (imports `decompose`, `handle`). The unit-test modules `params_tests` and
+//! `extreme_input_tests` import any of them.
 
 pub mod batch;
 pub mod contact;
 pub mod decompose;
-mod finite;
-pub mod history;
-pub mod indexed;
-#[cfg(target_arch = "x86_64")]
-mod lanes_x86;
+#[cfg(test)]
+mod extreme_input_tests;
+mod handle;
 pub mod model;
 #[cfg(test)]
 mod params_tests;
 pub mod status;
-#[cfg(target_arch = "x86_64")]
-mod transpose;
 pub mod types;
 pub mod version;
 
+use crate::error::Error;
 use status::{set_last_error, FfiError, RSL_OK};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -122,6 +127,55 @@ pub(crate) fn checked_pointer<T>(p: *mut T, name: &'static str) -> Result<*mut T
         return Err(FfiError::Misaligned(name));
     }
     Ok(p)
+}
+
+/// Borrows `n` elements of an input array; NULL is allowed only for `n = 0`.
+///
+/// # Safety
+/// `p` must be NULL or point to `n` initialised `T` not written during the call.
+pub(crate) unsafe fn slice_in<'a, T>(
+    p: *const T,
+    n: usize,
+    name: &'static str,
+) -> Result<&'a [T], FfiError> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(FfiError::NullPointer(name));
+    }
+    if !p.is_aligned() {
+        return Err(FfiError::Misaligned(name));
+    }
+    if n.checked_mul(std::mem::size_of::<T>())
+        .is_none_or(|bytes| bytes > isize::MAX as usize)
+    {
+        return Err(FfiError::Core(Error::InvalidArgument(format!(
+            "{name}: array length {n} too large"
+        ))));
+    }
+    // SAFETY: non-null, aligned, size within isize::MAX (checked above); validity for `n`
+    // elements is the caller's documented contract.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// Borrows `n` elements of an output (or in-out) array; NULL is allowed only for `n = 0`.
+///
+/// # Safety
+/// `p` must be NULL or point to `n` writable `T` not aliased by any other argument.
+pub(crate) unsafe fn slice_out<'a, T>(
+    p: *mut T,
+    n: usize,
+    name: &'static str,
+) -> Result<&'a mut [T], FfiError> {
+    // SAFETY: forwarded contract (checks in `slice_in`).
+    let s = unsafe { slice_in(p as *const T, n, name)? };
+    let len = s.len();
+    if len == 0 {
+        return Ok(&mut []);
+    }
+    // SAFETY: as `slice_in`; exclusivity is the caller's contract.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
 }
 
 #[cfg(test)]

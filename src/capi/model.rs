@@ -1,10 +1,15 @@
 //! The contact model handle: `rsl_model_new` / `rsl_model_free` and validated setters. A setter
 //! that refuses its input returns `RSL_ERR_INVALID_PARAMETER` and leaves the model unchanged.
+//! The handle type itself is `handle`'s.
 #![allow(non_camel_case_types)]
 
+pub use super::handle::rsl_model;
+
+use super::contact::pair_steps;
+use super::decompose::{parse_options, rsl_decompose_options};
+use super::handle::{live_model, FREED, LIVE};
 use super::status::FfiError;
-use super::{guard, input, output};
-use crate::capi::contact::{pair_steps, PairSteps};
+use super::{guard, input, output, slice_in};
 use crate::error::Error;
 use crate::geometry::GeometryOptions;
 use crate::laws::materials::{same_laws, Coefficients};
@@ -83,40 +88,6 @@ pub const RSL_TRANSPORT_PROJECT: i32 = 3;
 /// Transport: none.
 pub const RSL_TRANSPORT_NONE: i32 = 4;
 
-const LIVE: u64 = 0x7273_6c5f_6d6f_6465; // "rsl_mode"
-const FREED: u64 = 0x6672_6565_645f_5f5f; // "freed___"
-
-/// An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
-/// release with `rsl_model_free`. A model is read-only during steps: one model can serve many
-/// threads at once as long as no thread calls a setter meanwhile.
-pub struct rsl_model {
-    magic: u64,
-    pub(crate) model: Model,
-    /// The table of material pairs (`rsl_model_set_materials`): coefficient sets of models with
-    /// this model's laws.
-    pub(crate) materials: Vec<Coefficients>,
-    /// `rsl_contact_step` and `rsl_contact_step_accumulate` on this CPU (its fast
-    /// path, the checked step on refusal), chosen once here rather than per call.
-    pub(crate) pair_steps: PairSteps,
-}
-
-impl rsl_model {
-    /// Whether this is a live handle (not freed, not garbage: best effort, as [`live_model`]).
-    pub(crate) fn is_live(&self) -> bool {
-        self.magic == LIVE
-    }
-
-    /// A live handle of `model` (already validated), with the per-contact steps of this CPU.
-    pub(crate) fn live(model: Model) -> Self {
-        rsl_model {
-            magic: LIVE,
-            model,
-            materials: Vec::new(),
-            pair_steps: pair_steps(),
-        }
-    }
-}
-
 /// Parameters of the rolling law (`rsl_model_set_rolling`). Start from
 /// `rsl_model_get_rolling`, which returns the model's current ones (a preset's form and
 /// damping mode included).
@@ -152,20 +123,6 @@ pub struct rsl_rolling_params {
     pub stiffness_factor: f64,
 }
 
-/// Borrows a live model for reading.
-///
-/// # Safety
-/// `p` must be NULL or a pointer returned by `rsl_model_new` (freed pointers are detected on a
-/// best-effort basis only).
-pub(crate) unsafe fn live_model<'a>(p: *const rsl_model) -> Result<&'a rsl_model, FfiError> {
-    // SAFETY: forwarded contract.
-    let m = unsafe { input(p, "model")? };
-    if m.magic != LIVE {
-        return Err(FfiError::InvalidHandle);
-    }
-    Ok(m)
-}
-
 /// Applies a change to a copy of the model, validates it, and stores it only if valid.
 ///
 /// # Safety
@@ -190,7 +147,7 @@ unsafe fn update(
     };
     *m = rsl_model {
         materials,
-        ..rsl_model::live(next)
+        ..rsl_model::live(next, pair_steps())
     };
     Ok(())
 }
@@ -230,7 +187,7 @@ pub unsafe extern "C" fn rsl_model_new(preset: i32, out: *mut *mut rsl_model) ->
         let out = unsafe { output(out, "out")? };
         let preset = parse_preset(preset)?;
         let model = Model::with_preset(preset);
-        let boxed = Box::new(rsl_model::live(model));
+        let boxed = Box::new(rsl_model::live(model, pair_steps()));
         *out = Box::into_raw(boxed);
         Ok(())
     })
@@ -291,7 +248,7 @@ pub unsafe extern "C" fn rsl_model_set_materials(
             &[]
         } else {
             // SAFETY: forwarded contract: `sets` holds `n` pointers (NULL refused here).
-            unsafe { super::batch::slice_in(sets, n, "sets")? }
+            unsafe { slice_in(sets, n, "sets")? }
         };
         let mut table = Vec::with_capacity(n);
         for (i, &p) in pointers.iter().enumerate() {
@@ -340,16 +297,16 @@ pub unsafe extern "C" fn rsl_model_set_geometry(
     rolling_radius_rule: i32,
 ) -> i32 {
     guard(|| {
-        let options = super::decompose::rsl_decompose_options {
+        let options = rsl_decompose_options {
             branch_rule,
             rolling_radius_rule,
             parts: 0,
         };
-        let (geometry, _): (GeometryOptions, _) = super::decompose::parse_options(Some(&options))
-            .map_err(|e| match e {
-            Error::InvalidArgument(m) => Error::InvalidParameter(m),
-            other => other,
-        })?;
+        let (geometry, _): (GeometryOptions, _) =
+            parse_options(Some(&options)).map_err(|e| match e {
+                Error::InvalidArgument(m) => Error::InvalidParameter(m),
+                other => other,
+            })?;
         // SAFETY: forwarded contract.
         unsafe {
             update(model, |m| {

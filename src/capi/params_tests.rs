@@ -12,6 +12,7 @@ use super::batch::{
     rsl_batch_step_contacts_params, rsl_batch_step_indexed, rsl_batch_step_params,
     RSL_PRECISION_F64, RSL_SIMD_AVX2, RSL_SIMD_AVX512, RSL_SIMD_SCALAR,
 };
+use super::contact::pair_steps;
 use super::contact::{
     rsl_contact_energy, rsl_contact_input, rsl_contact_loads, rsl_contact_state, rsl_contact_step,
     RSL_INPUT_SLIDING_STIFFNESS,
@@ -22,10 +23,15 @@ use super::model::{
 };
 use super::status::{RSL_ERR_INVALID_ARGUMENT, RSL_OK};
 use super::types::{rsl_sphere, rsl_vec3};
-use crate::capi::batch::Simd;
+use crate::batch::Simd;
 use crate::laws::model::{
     Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
 };
+
+/// A live handle of `model` with this CPU's per-contact steps.
+fn live(model: Model) -> rsl_model {
+    rsl_model::live(model, pair_steps())
+}
 
 /// A small deterministic generator (the same values on every run and platform).
 struct Lcg(u64);
@@ -230,11 +236,8 @@ fn each_contact_steps_as_its_material_pairs_model_bit_for_bit() {
     let mut rng = Lcg(11);
     let n = 101; // three blocks and a part, so that groups mix whole and partial ones
     for base in base_models() {
-        let sets: Vec<rsl_model> = material_models(&base)
-            .into_iter()
-            .map(rsl_model::live)
-            .collect();
-        let mut model = rsl_model::live(base);
+        let sets: Vec<rsl_model> = material_models(&base).into_iter().map(live).collect();
+        let mut model = live(base);
         let pointers: Vec<*const rsl_model> = sets.iter().map(|s| s as *const _).collect();
         // SAFETY: a live handle and an array of three live handles.
         let status = unsafe { rsl_model_set_materials(&mut model, pointers.as_ptr(), 3) };
@@ -423,15 +426,12 @@ fn each_contact_steps_as_its_material_pairs_model_bit_for_bit() {
 #[test]
 fn a_table_takes_sets_of_the_models_laws_only_and_setters_keep_it_for_values() {
     let base = base_models()[0];
-    let mut model = rsl_model::live(base);
+    let mut model = live(base);
     let mut other_laws = base;
     other_laws.twisting.law = TwistingLaw::None;
     let mut other_transport = base;
     other_transport.rolling_transport = Transport::Exact;
-    let good: Vec<rsl_model> = material_models(&base)
-        .into_iter()
-        .map(rsl_model::live)
-        .collect();
+    let good: Vec<rsl_model> = material_models(&base).into_iter().map(live).collect();
     let count = |m: &rsl_model| {
         let mut n = 99;
         // SAFETY: a live handle and a local.
@@ -446,10 +446,7 @@ fn a_table_takes_sets_of_the_models_laws_only_and_setters_keep_it_for_values() {
     assert_eq!(set(&mut model, &good_ptrs), RSL_OK);
     assert_eq!(count(&model), 3);
     // Refused, the table unchanged: other laws, another transport, a NULL set.
-    for bad in [
-        rsl_model::live(other_laws),
-        rsl_model::live(other_transport),
-    ] {
+    for bad in [live(other_laws), live(other_transport)] {
         let sets = [good_ptrs[0], &bad as *const rsl_model];
         assert_eq!(set(&mut model, &sets), RSL_ERR_INVALID_ARGUMENT);
         assert_eq!(count(&model), 3);
@@ -513,7 +510,7 @@ fn the_batch_calls_return_each_contacts_energy_terms_bit_for_bit() {
     for base in base_models() {
         let mut tracked = base;
         tracked.track_energy = true;
-        let model = rsl_model::live(tracked);
+        let model = live(tracked);
         let mut c = contacts(n, &mut rng);
         // One contact with a non-finite normal force: skipped, its entry untouched.
         let skipped = 40;
@@ -635,7 +632,7 @@ fn the_batch_calls_return_each_contacts_energy_terms_bit_for_bit() {
             assert_eq!(all(&energy3), all(&energy), "{what}: contact-major");
         }
         // A model that does not track energy: refused, nothing processed or written.
-        let plain = rsl_model::live(base);
+        let plain = live(base);
         let mut energy = vec![sentinel; n];
         let params = rsl_batch_contact_params {
             sliding_stiffness: std::ptr::null(),

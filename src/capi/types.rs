@@ -1,64 +1,12 @@
 //! Plain `#[repr(C)]` structs that cross the boundary, and their conversions to the core types.
+//! The ones the engine reads and writes in place (`rsl_vec3`, `rsl_sphere` here) are defined in
+//! the core's `layout` and re-exported.
 #![allow(non_camel_case_types)]
 
-use crate::decompose::{Decomposition, Sphere, Wall};
+pub use crate::layout::{rsl_sphere, rsl_vec3};
+
+use crate::decompose::{Decomposition, Wall};
 use crate::geometry::ContactGeometry;
-use crate::scalar::Vec3;
-
-/// A 3-vector of doubles (any consistent unit system), in the global frame: every vector the
-/// library reads or writes (positions, velocities, angular velocities, normals, forces,
-/// torques, moments, stored springs) has its components in the host's fixed global frame.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_vec3 {
-    /// x component.
-    pub x: f64,
-    /// y component.
-    pub y: f64,
-    /// z component.
-    pub z: f64,
-}
-
-impl From<rsl_vec3> for Vec3<f64> {
-    fn from(v: rsl_vec3) -> Self {
-        Vec3::new(v.x, v.y, v.z)
-    }
-}
-
-impl From<Vec3<f64>> for rsl_vec3 {
-    fn from(v: Vec3<f64>) -> Self {
-        rsl_vec3 {
-            x: v.x,
-            y: v.y,
-            z: v.z,
-        }
-    }
-}
-
-/// Kinematic state of one sphere (vectors in the global frame).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_sphere {
-    /// Centre position.
-    pub position: rsl_vec3,
-    /// Velocity of the centre.
-    pub velocity: rsl_vec3,
-    /// Angular velocity (rad per unit time, global frame).
-    pub angular_velocity: rsl_vec3,
-    /// Radius (> 0).
-    pub radius: f64,
-}
-
-impl From<&rsl_sphere> for Sphere<f64> {
-    fn from(s: &rsl_sphere) -> Self {
-        Sphere {
-            position: s.position.into(),
-            velocity: s.velocity.into(),
-            angular_velocity: s.angular_velocity.into(),
-            radius: s.radius,
-        }
-    }
-}
 
 /// A flat wall in rigid motion (body 2 of a sphere-wall contact).
 #[repr(C)]
@@ -216,4 +164,56 @@ pub struct rsl_legacy_rolling {
     pub kuhn_bagi: rsl_vec3,
     /// LEGACY Iwashita-Oda `(R1 w1 - R2 w2) x n / 2`: not objective.
     pub iwashita_oda: rsl_vec3,
+}
+
+/// Energy terms of one step (load times length; 0 unless the model tracks energy).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct rsl_contact_energy {
+    /// Elastic energy in the sliding spring after the step.
+    pub elastic_sliding: f64,
+    /// Elastic energy in the rolling spring after the step.
+    pub elastic_rolling: f64,
+    /// Elastic energy in the twisting spring after the step.
+    pub elastic_twisting: f64,
+    /// Dissipated by the sliding dashpot this step.
+    pub dashpot_sliding: f64,
+    /// Dissipated by the rolling dashpot (viscous law included) this step.
+    pub dashpot_rolling: f64,
+    /// Dissipated by the twisting dashpot this step.
+    pub dashpot_twisting: f64,
+    /// Dissipated by the sliding slider (friction) this step.
+    pub slider_sliding: f64,
+    /// Dissipated by the rolling slider (cdt included) this step.
+    pub slider_rolling: f64,
+    /// Dissipated by the twisting slider this step.
+    pub slider_twisting: f64,
+    /// Change of elastic energy caused by transporting the springs this step (0 to rounding
+    /// for exact and project-rescale transport).
+    pub transport: f64,
+}
+
+/// Loads of one contact step. Body 2 receives `-force1` and `torque2`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct rsl_contact_loads {
+    /// Force on body 1: `-f_n n + F_t`.
+    pub force1: rsl_vec3,
+    /// Torque on body 1 about its centre.
+    pub torque1: rsl_vec3,
+    /// Torque on body 2 about its centre (wall: about the contact point).
+    pub torque2: rsl_vec3,
+    /// Sliding force `F_t` on body 1.
+    pub sliding_force: rsl_vec3,
+    /// Rolling moment on body 1 (body 2 gets its opposite).
+    pub rolling_moment: rsl_vec3,
+    /// Twisting torque on body 1, `M_tw n` (YADE preset: its vector twisting moment); body 2
+    /// gets the opposite.
+    pub twisting_torque: rsl_vec3,
+    /// Energy terms.
+    pub energy: rsl_contact_energy,
+    /// `RSL_SLIP_*` bits.
+    pub slip_flags: u32,
+    /// Padding.
+    pub reserved: u32,
 }

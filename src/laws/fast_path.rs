@@ -7,6 +7,12 @@
 //! checked path's `pair_geometry` wraps) and the same step follows. Anything the test does not pass,
 //! and any non-finite result, goes to the checked step, which returns the precise error (or,
 //! for inputs the quick test is stricter about than the checked step, the result).
+//!
+//! Its finiteness tests of the C structs as they are stored (the portable and the AVX2 one)
+//! are `finite`'s; the C layer (`capi::contact`) builds the per-contact steps from them and
+//! this module's [`step_pair_if_valid`].
+
+pub(crate) mod finite;
 
 use crate::decompose::Sphere;
 use crate::error::Error;

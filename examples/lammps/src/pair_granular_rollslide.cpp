@@ -121,6 +121,9 @@ void PairGranularRollslide::library_error(const char *call, int32_t status, tagi
 
 void PairGranularRollslide::free_models()
 {
+  for (Group &g : groups)
+    if (g.owned) rsl_model_free(g.model);
+  groups.clear();
   for (rsl_model *&m : models) {
     rsl_model_free(m);
     m = nullptr;
@@ -324,46 +327,100 @@ void PairGranularRollslide::init_style()
         at(i, j) = at(j, i) = at(i, i);
       }
 
-  // One library model per type pair.
+  // One library model per type pair, and the groups of the batch calls (see Group).
   free_models();
   for (int i = 1; i <= ntypes; i++)
     for (int j = 1; j <= ntypes; j++) {
-      const Coeffs &c = at(i, j);
-      if (!c.set) fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) + " is missing");
-      rsl_model *m = nullptr;
-      int32_t st = rsl_model_new(preset, &m);
-      // The sliding dashpot is per contact (xgammat times the normal damping prefactor),
-      // except with `damping velocity`, where it is the constant xgammat eta_n.
-      double gamma_t = c.damping == VELOCITY ? c.xgammat * c.damp : 0.0;
-      if (st == RSL_OK) st = rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, c.kt, gamma_t, c.mu_s);
-      if (st == RSL_OK && c.rolling) {
-        rsl_rolling_params p;
-        st = rsl_model_get_rolling(m, &p);
-        p.law = RSL_ROLLING_EPSD;
-        p.form = RSL_FORM_LENGTH;
-        p.stiffness_rule = RSL_STIFFNESS_GIVEN;
-        p.damping_rule = RSL_DAMPING_GIVEN;
-        p.damping_mode = RSL_DAMPING_ALWAYS;
-        p.stiffness = c.kr;
-        p.damping = c.gr;
-        p.friction = c.mu_r;
-        if (st == RSL_OK) st = rsl_model_set_rolling(m, &p);
-      }
-      if (st == RSL_OK && c.twist == TWIST_SDS)
-        st = rsl_model_set_twisting(m, RSL_TWISTING_SDS, c.ktw, c.gtw, c.mu_tw);
-      if (st == RSL_OK && c.twist == TWIST_MARSHALL)
-        st = rsl_model_set_twisting(m, RSL_TWISTING_MARSHALL, 0.0, 0.0, 0.0);
-      if (st != RSL_OK) {
-        rsl_model_free(m);
-        fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) +
-             ": the library refused the coefficients: " + rsl_status_str(st) + " (" +
-             rsl_last_error_message() + ")");
-      }
-      models[i * (ntypes + 1) + j] = m;
+      if (!at(i, j).set) fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) + " is missing");
+      models[i * (ntypes + 1) + j] = new_model(at(i, j), i, j);
     }
+  build_groups();
 
   direct.resize(true);
   paired.resize(false);
+}
+
+// A library model of coefficients `c` (those of type pair i j, named in the error).
+rsl_model *PairGranularRollslide::new_model(const Coeffs &c, int i, int j)
+{
+  rsl_model *m = nullptr;
+  int32_t st = rsl_model_new(preset, &m);
+  // The sliding dashpot is per contact (xgammat times the normal damping prefactor),
+  // except with `damping velocity`, where it is the constant xgammat eta_n.
+  double gamma_t = c.damping == VELOCITY ? c.xgammat * c.damp : 0.0;
+  if (st == RSL_OK) st = rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, c.kt, gamma_t, c.mu_s);
+  if (st == RSL_OK && c.rolling) {
+    rsl_rolling_params p;
+    st = rsl_model_get_rolling(m, &p);
+    p.law = RSL_ROLLING_EPSD;
+    p.form = RSL_FORM_LENGTH;
+    p.stiffness_rule = RSL_STIFFNESS_GIVEN;
+    p.damping_rule = RSL_DAMPING_GIVEN;
+    p.damping_mode = RSL_DAMPING_ALWAYS;
+    p.stiffness = c.kr;
+    p.damping = c.gr;
+    p.friction = c.mu_r;
+    if (st == RSL_OK) st = rsl_model_set_rolling(m, &p);
+  }
+  if (st == RSL_OK && c.twist == TWIST_SDS)
+    st = rsl_model_set_twisting(m, RSL_TWISTING_SDS, c.ktw, c.gtw, c.mu_tw);
+  if (st == RSL_OK && c.twist == TWIST_MARSHALL)
+    st = rsl_model_set_twisting(m, RSL_TWISTING_MARSHALL, 0.0, 0.0, 0.0);
+  if (st != RSL_OK) {
+    rsl_model_free(m);
+    fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) +
+         ": the library refused the coefficients: " + rsl_status_str(st) + " (" +
+         rsl_last_error_message() + ")");
+  }
+  return m;
+}
+
+// Groups the type pairs I <= J by law set (the library laws new_model sets: rolling, twisting),
+// in the order of their first pair; (J, I) goes with (I, J), whose coefficients it has. A group
+// of several pairs gets a model of its own with a table of their models' coefficient sets, set
+// k being the group's k-th pair.
+void PairGranularRollslide::build_groups()
+{
+  const int n = ntypes + 1;
+  slots.assign(n * n, Slot());
+  groups.clear();
+  std::vector<std::vector<int>> members;    // per group: its pairs' indices (itype * n + jtype)
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = i; j <= ntypes; j++) {
+      const Coeffs &c = at(i, j);
+      size_t g = 0;
+      while (g < members.size() &&
+             !(coeffs[members[g][0]].rolling == c.rolling && coeffs[members[g][0]].twist == c.twist))
+        g++;
+      if (g == members.size()) {
+        members.emplace_back();
+        groups.emplace_back();
+      }
+      Slot slot;
+      slot.group = (int) g;
+      slot.material = (uint32_t) members[g].size();
+      slots[i * n + j] = slots[j * n + i] = slot;
+      members[g].push_back(i * n + j);
+      groups[g].kt = groups[g].kt || c.tangential == MINDLIN;
+      groups[g].gammat = groups[g].gammat || c.damping != VELOCITY;
+    }
+  for (size_t g = 0; g < groups.size(); g++) {
+    const int first = members[g][0];
+    if (members[g].size() == 1) {
+      groups[g].model = models[first];
+      continue;
+    }
+    // The laws of the group's first pair; the table gives every contact its own pair's values.
+    groups[g].model = new_model(coeffs[first], first / n, first % n);
+    groups[g].owned = true;
+    std::vector<const rsl_model *> sets;
+    for (int k : members[g]) sets.push_back(models[k]);
+    int32_t st = rsl_model_set_materials(groups[g].model, sets.data(), sets.size());
+    if (st != RSL_OK)
+      fail("pair_coeff " + std::to_string(first / n) + " " + std::to_string(first % n) +
+           ": the library refused the table of its law set's type pairs: " + rsl_status_str(st) +
+           " (" + rsl_last_error_message() + ")");
+  }
 }
 
 double PairGranularRollslide::init_one(int i, int j)
@@ -407,6 +464,7 @@ void PairGranularRollslide::Chunk::resize(bool is_direct)
   normal_force.resize(CHUNK);
   sliding_stiffness.resize(CHUNK);
   sliding_damping.resize(CHUNK);
+  material.resize(CHUNK);
   index.resize(is_direct ? CHUNK : 0);
   state.resize(is_direct ? 0 : CHUNK);
   loads.resize(is_direct ? 0 : CHUNK);
@@ -427,7 +485,7 @@ void PairGranularRollslide::flush_direct()
   // atom->f and atom->torque hold 3 contiguous doubles per atom, the layout of rsl_vec3.
   rsl_vec3 *f = reinterpret_cast<rsl_vec3 *>(atom->f[0]);
   rsl_vec3 *t = reinterpret_cast<rsl_vec3 *>(atom->torque[0]);
-  int32_t st = rsl_batch_step_indexed(chunk_model, spheres.data(), nall, ch.pairs.data(), n,
+  int32_t st = rsl_batch_step_indexed(groups[chunk_group].model, spheres.data(), nall, ch.pairs.data(), n,
                                       ch.normal_force.data(), nullptr, &params, dt, nullptr,
                                       history->state.data(), history->state.size(),
                                       ch.index.data(), f, t, &report);
@@ -450,12 +508,15 @@ void PairGranularRollslide::chunk_error(const char *call, int32_t status,
   library_error(call, status, atom->tag[ch.pending[bad].i], atom->tag[ch.pending[bad].j]);
 }
 
-// The per-contact sliding coefficients of a chunk, for its law.
+// The per-contact coefficients of a chunk, for its group: the sliding ones its law set has
+// per contact, and each contact's set in the group's table (if it has one).
 rsl_batch_contact_params PairGranularRollslide::chunk_params(Chunk &ch) const
 {
-  rsl_batch_contact_params params;
-  params.sliding_stiffness = chunk_kt ? ch.sliding_stiffness.data() : nullptr;
-  params.sliding_damping = chunk_gammat ? ch.sliding_damping.data() : nullptr;
+  const Group &g = groups[chunk_group];
+  rsl_batch_contact_params params{};
+  params.sliding_stiffness = g.kt ? ch.sliding_stiffness.data() : nullptr;
+  params.sliding_damping = g.gammat ? ch.sliding_damping.data() : nullptr;
+  params.material = g.owned ? ch.material.data() : nullptr;
   return params;
 }
 
@@ -469,7 +530,7 @@ void PairGranularRollslide::flush_paired()
   load_states(ch);
   rsl_batch_report report;
   rsl_batch_contact_params params = chunk_params(ch);
-  int32_t st = rsl_batch_step_contacts_params(chunk_model, ch.body1.data(), ch.body2.data(), n,
+  int32_t st = rsl_batch_step_contacts_params(groups[chunk_group].model, ch.body1.data(), ch.body2.data(), n,
                                               ch.normal_force.data(), nullptr, &params, dt, nullptr,
                                               ch.state.data(), ch.loads.data(), &report);
   if (st != RSL_OK) chunk_error("rsl_batch_step_contacts_params", st, report, ch);
@@ -505,7 +566,7 @@ void PairGranularRollslide::compute(int eflag, int vflag)
   unsigned char *touch = history->touch.data();
   rsl_contact_state *states = history->state.data();
   direct.n = paired.n = 0;
-  chunk_model = nullptr;
+  chunk_group = -1;
   const int nlocal = atom->nlocal;
   // Contacts between two local atoms go to the direct chunks, stepped from one sphere record
   // per atom, except on steps that tally energy or virial (which need each pair's force).
@@ -575,21 +636,23 @@ void PairGranularRollslide::compute(int eflag, int vflag)
       if (c.limit_damping && Fntot < 0.0) Fntot = 0.0;
 
       touch[e] = 1;
-      const rsl_model *m = model(itype, jtype);
       // The per-contact sliding coefficients of pair granular: the tangential dashpot scales
-      // with the normal one for every damping model but velocity, mindlin's k_t with a.
+      // with the normal one for every damping model but velocity (with velocity it is the
+      // model's constant xgammat eta_n, to the bit), mindlin's k_t with a (linear_history's is
+      // the model's constant).
       const bool per_gammat = c.damping != VELOCITY, per_kt = c.tangential == MINDLIN;
-      const double gammat = c.xgammat * damp_normal_prefactor, kt = c.kt * a;
+      const double gammat = c.xgammat * damp_normal_prefactor;
+      const double kt = per_kt ? c.kt * a : c.kt;
       if (!setup) {
-        // Gathered for one batch call per chunk (one model, hence one law, per chunk).
-        if (m != chunk_model) {
+        // Gathered for one batch call per chunk (one group, hence one law set, per chunk).
+        const Slot &slot = slots[itype * (ntypes + 1) + jtype];
+        if (slot.group != chunk_group) {
           flush();
-          chunk_model = m;
-          chunk_kt = per_kt;
-          chunk_gammat = per_gammat;
+          chunk_group = slot.group;
         }
-        // The fields both kinds of chunk keep; returns the contact's slot. (Written once per
-        // kind below, so that each copy addresses its chunk's arrays directly.)
+        // The fields both kinds of chunk keep; returns the contact's place in the chunk.
+        // (Written once per kind below, so that each copy addresses its chunk's arrays
+        // directly.)
         auto join = [&](Chunk &ch) {
           const int k = ch.n++;
           // The flush reads this contact's history (in place, or copying it into the chunk)
@@ -610,6 +673,7 @@ void PairGranularRollslide::compute(int eflag, int vflag)
           ch.normal_force[k] = Fntot;
           ch.sliding_stiffness[k] = kt;
           ch.sliding_damping[k] = gammat;
+          ch.material[k] = slot.material;
           return k;
         };
         if (use_direct && j < nlocal) {
@@ -645,7 +709,7 @@ void PairGranularRollslide::compute(int eflag, int vflag)
       fill_sphere(s1, x[i], v[i], omega[i], radi);
       fill_sphere(s2, x[j], v[j], omega[j], radj);
       rsl_contact_loads out;
-      int32_t st = rsl_contact_step(m, &s1, &s2, &in, &states[e], &out);
+      int32_t st = rsl_contact_step(model(itype, jtype), &s1, &s2, &in, &states[e], &out);
       if (st != RSL_OK) library_error("rsl_contact_step", st, tag[i], tag[j]);
       const double del[3] = {delx, dely, delz};
       apply(i, j, del, out.force1, out.torque1, out.torque2);
@@ -656,7 +720,7 @@ void PairGranularRollslide::compute(int eflag, int vflag)
 
 double PairGranularRollslide::memory_usage()
 {
-  const double common = 3 * sizeof(double) + sizeof(Pending);
+  const double common = 3 * sizeof(double) + sizeof(uint32_t) + sizeof(Pending);
   return (double) CHUNK * (2 * common + 2 * sizeof(uint32_t) + sizeof(size_t) +
                            sizeof(rsl_contact_state) + 2 * sizeof(rsl_sphere) +
                            sizeof(rsl_batch_loads)) +

@@ -30,7 +30,7 @@ class PairGranularRollslide : public Pair {
   double init_one(int, int) override;
   double memory_usage() override;
 
-  // The model of a type pair (the swap of a state needs it).
+  // The model of a type pair (the swap of a state and the per-contact setup pass need it).
   const rsl_model *model(int itype, int jtype) const { return models[itype * (ntypes + 1) + jtype]; }
   // A LAMMPS error naming the pair's atom IDs and the library's message; never returns.
   [[noreturn]] void library_error(const char *call, int32_t status, tagint id1, tagint id2);
@@ -64,13 +64,38 @@ class PairGranularRollslide : public Pair {
   int ntypes = 0;
   std::vector<Coeffs> coeffs;        // (ntypes+1)^2
   std::vector<rsl_model *> models;   // (ntypes+1)^2, built by init_style
+
+  // The batch calls step a chunk of contacts with one model, and a model with a table of
+  // coefficient sets (rsl_model_set_materials) steps contacts of several type pairs, each with
+  // its own pair's set (its index in params.material), as long as the pairs' library laws
+  // agree. So the type pairs are grouped by law set (rolling sds or none, twisting sds, marshall
+  // or none: the sliding law is linear for all, and the normal force is computed here), and a
+  // chunk holds the contacts of one group: with one law set for all type pairs, a chunk no
+  // longer ends where the type pair changes along the neighbour list.
+  struct Group {
+    // A group of one type pair steps with that pair's model (in `models`), without a table;
+    // a larger group with a model of its own (`owned`) holding a table over its pairs.
+    rsl_model *model = nullptr;
+    bool owned = false;
+    // Some pair of the group has a per-contact k_t (mindlin) or gamma_t (every damping model
+    // but velocity): then every contact of the group passes one (its pair's constant for the
+    // others, the value of its set, so the step is the same).
+    bool kt = false, gammat = false;
+  };
+  std::vector<Group> groups;
+  // Per type pair (itype * (ntypes+1) + jtype): its group, and its index in the group's table.
+  struct Slot {
+    int group = -1;
+    uint32_t material = 0;
+  };
+  std::vector<Slot> slots;
   std::vector<double> maxrad;        // per type
   FixRollslideHistory *history = nullptr;
   int freeze_group_bit = 0;
   double dt = 0.0;
 
-  // Contacts are stepped in chunks of up to CHUNK, one library call per chunk, one model (hence
-  // one law) per chunk. Two kinds of chunk are filled side by side:
+  // Contacts are stepped in chunks of up to CHUNK, one library call per chunk, one group's
+  // model (hence one law set) per chunk. Two kinds of chunk are filled side by side:
   // - `direct`: contacts between two local atoms, stepped by rsl_batch_step_params
   //   (particle-major) from the step's sphere array (`spheres`, one record per local and ghost
   //   atom, filled once per step), the library adding the loads straight into atom->f and
@@ -96,6 +121,7 @@ class PairGranularRollslide : public Pair {
     std::vector<double> normal_force;
     // Per-contact k_t (mindlin) and gamma_t (every damping model but velocity).
     std::vector<double> sliding_stiffness, sliding_damping;
+    std::vector<uint32_t> material;         // each contact's index in its group's table
     std::vector<size_t> index;              // direct: each contact's entry in the history
     std::vector<rsl_contact_state> state;   // paired: the histories, copied in and out
     std::vector<rsl_batch_loads> loads;     // paired only
@@ -103,11 +129,12 @@ class PairGranularRollslide : public Pair {
   };
   Chunk direct, paired;
   std::vector<rsl_sphere> spheres;          // per local and ghost atom, this step
-  bool chunk_kt = false, chunk_gammat = false;
-  const rsl_model *chunk_model = nullptr;
+  int chunk_group = -1;                     // the group of the pending contacts, -1: none
 
   Coeffs &at(int i, int j) { return coeffs[i * (ntypes + 1) + j]; }
   void allocate();
+  rsl_model *new_model(const Coeffs &c, int i, int j);
+  void build_groups();
   void free_models();
   rsl_batch_contact_params chunk_params(Chunk &ch) const;
   void load_states(Chunk &ch);

@@ -7,8 +7,7 @@
 //! checked path then sorts out. [`Portable`] adds them as scalars; [`Avx2`] loads each struct
 //! four doubles at a time (12 loads and adds for the inputs instead of 41 scalar ones).
 
-use super::contact::{rsl_contact_input, rsl_contact_state};
-use super::types::{rsl_sphere, rsl_vec3};
+use crate::layout::{rsl_contact_input, rsl_contact_state, rsl_sphere, rsl_vec3};
 use crate::scalar::FiniteSums;
 use std::mem::{offset_of, size_of};
 

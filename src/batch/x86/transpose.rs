@@ -23,13 +23,12 @@
 //!
 //! [`PortableCopy`]: crate::batch::PortableCopy
 
-use super::contact::rsl_contact_state;
-use super::history::Record;
-use super::types::rsl_sphere;
+use crate::batch::history::Record;
 use crate::batch::{
     group_of, pair_bodies_by_reference, store_loads_by_value, GroupCopy, GroupRow, LoadsSlot,
     BODY_WORDS, GROUP, STATE_WORDS,
 };
+use crate::layout::{rsl_contact_state, rsl_sphere};
 use std::mem::{offset_of, size_of};
 
 // The transpositions read and write these structs as arrays of doubles: a sphere is its
@@ -790,10 +789,9 @@ record_copy!(Avx512Copy);
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
-    use crate::batch::{state_words, PortableCopy, StateSlot};
-    use crate::capi::batch::Simd;
-    use crate::capi::contact::tests::state_bits;
-    use crate::capi::types::rsl_vec3;
+    use crate::batch::{state_words, PortableCopy, Simd, StateSlot};
+    use crate::layout::tests::state_bits;
+    use crate::layout::{rsl_batch_loads, rsl_vec3};
 
     /// Distinct doubles (none repeated, so a misplaced word shows), including signed zeros and
     /// subnormals which must be copied bit for bit.
@@ -1053,7 +1051,7 @@ mod tests {
         let rows: [GroupRow; 9] =
             std::array::from_fn(|q| std::array::from_fn(|k| value(2000 + 10 * k + q)));
         let sentinel = vec3(9999);
-        let mut out = [crate::capi::batch::rsl_batch_loads {
+        let mut out = [rsl_batch_loads {
             force1: sentinel,
             torque1: sentinel,
             torque2: sentinel,

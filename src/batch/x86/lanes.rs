@@ -9,6 +9,29 @@
 //! They replace simba's array-backed `AutoSimd` packs, which LLVM re-vectorised into mixed
 //! xmm/ymm/zmm pieces with many spills and stored masks as arrays of `bool`.
 //!
+//! **Why hand-written rather than taken from a maintained crate** (`pulp`, `wide`). A lane type
+//! must give what the generic physics and the block kernel ask of it, and neither crate gives
+//! that as it stands. The physics is written over nalgebra vectors of a
+//! [`Real`](crate::scalar::Real) (simba's `SimdRealField` and the `SimdValue`, `SimdBool` and
+//! `SimdComplexField` it implies), so a lane type must carry simba's traits and operator
+//! overloads. `pulp`'s generic code calls its operations as methods of a per-instruction-set
+//! token (`simd.mul_f64s(a, b)`), not on the values, and dispatches at run time through its own
+//! `Arch::dispatch`/`WithSimd` entry, around which the kernel families of `batch::dispatch` (one
+//! `#[target_feature]` function per level, precision, access type and prefetching choice) would
+//! have to be rebuilt. `wide` has operator-overloaded types (simba's optional `wide` feature wraps
+//! some of them for its traits), but it builds on `safe_arch`, which picks the instructions by
+//! `#[cfg(target_feature)]` at compile time: in this library's build, for baseline x86-64 with
+//! the AVX2 and AVX-512 kernels chosen at run time, its 256- and 512-bit types would be compiled
+//! for SSE2, not as single ymm or zmm registers. And the kernels use operations that neither
+//! offers in this form: masks as bitmasks ([`SimdBool::bitmask`]; an AVX-512 mask register for
+//! [`F64x8`] and [`F32x16`]), the fused finiteness probe ([`Lanes::add_zero_times`], one
+//! `vfmadd` with a zero factor), `f32` lanes paired with an `f64` geometry type of the same lane
+//! count ([`Lanes::Geo`]: [`F32x16`] with [`F64x8x2`], [`F32x8N`] with [`F64x4x2`], [`F32x8W`]
+//! with [`F64x8`]) and the conversions between them, the same eight `f64` lanes as one zmm
+//! ([`F64x8`]) or two ymm registers ([`F64x4x2`]), and lane semantics held to the scalar code bit
+//! for bit (below), which the batch tests check. No A/B measurement against `pulp` or `wide` was
+//! made: these are reasons of fit, not measured speed.
+//!
 //! **Exactness.** Each lane gives the bits the plain `f64` (or `f32`) code gives: addition,
 //! subtraction, multiplication, division and square root are IEEE operations rounded to
 //! nearest in both (no contraction into FMA: these intrinsics are never fused), `abs` and
@@ -21,8 +44,8 @@
 //! **Safety.** The intrinsics need the CPU features named above; the methods here are not
 //! `#[target_feature]` functions (trait methods cannot be), so each calls its intrinsic in an
 //! `unsafe` block. That is sound because a value of these types only exists inside the
-//! `#[target_feature]` kernels of `capi::batch::x86`, which are called only after
-//! `is_x86_feature_detected!` confirmed the features; the types are private to that module.
+//! `#[target_feature]` kernels of `batch::dispatch::x86`, which are called only after
+//! `is_x86_feature_detected!` confirmed the features; the types are private to `batch`.
 //! Inlined into those kernels, each intrinsic becomes its single instruction.
 
 #![allow(clippy::missing_safety_doc)]
@@ -85,7 +108,7 @@ pub(crate) struct F32x16(__m512);
 pub(crate) struct Mask16(u16);
 
 /// Runs an intrinsic. SAFETY (every use): a value of these types exists only inside the
-/// kernels of `capi::batch::x86`, run after the CPU was found to have the features the
+/// kernels of `batch::dispatch::x86`, run after the CPU was found to have the features the
 /// intrinsic needs (see the module documentation).
 macro_rules! arch {
     ($e:expr) => {
