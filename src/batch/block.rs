@@ -1221,8 +1221,10 @@ pub fn step_kernel<L: Lanes, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     // Whether to touch the contacts ahead ([`Gather::prefetching`](super::Gather::prefetching)):
     // a run-time choice, tested once per group of contacts.
     let prefetch = access.prefetching();
-    // Fused finiteness tests where the lanes have them (see `FiniteLanes`).
-    let fused = true;
+    // Unfused finiteness tests (see `FiniteLanes`): with the fused ones the double AVX2 kernels
+    // took 3-4% more time and the single AVX-512 ones 2-3% less (alternating runs, A, in cache
+    // and at 1.2M contacts); the double precision AVX2 kernel is kept the faster.
+    let fused = false;
     // A group's states get back only the words the step can change (decided by the model).
     let copy = copy.writing(written_words(written_fields(model)));
     let n = access.len();
