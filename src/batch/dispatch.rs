@@ -1,6 +1,7 @@
 //! The batch kernels' choice and CPU dispatch: the SIMD level ([`Simd`], with the CPU
-//! detection), a resolved configuration ([`BatchConfig`]: precision and level), one kernel per
-//! precision, SIMD level and prefetching choice, and the safe entries that validate a call and
+//! detection), a resolved configuration ([`BatchConfig`]: precision and level), one step kernel
+//! per precision, SIMD level and access (the decomposition's per prefetching choice too), and the
+//! safe entries that validate a call and
 //! run the kernel of its configuration ([`run_step`], [`run_history_step`], [`run_decompose`]).
 //! The per-contact steps' choice of build ([`pair_steps_avx2`]) is here too. The C layer
 //! (`capi::batch`) parses the C options into a [`BatchConfig`] and calls these.
@@ -92,7 +93,7 @@ pub fn pair_steps_avx2() -> bool {
     !cfg!(rollslide_portable_pair_steps) && Simd::Avx2.available()
 }
 
-// The kernels, one function per (precision, SIMD level) and prefetching choice `P`.
+// The step kernels, one function per (precision, SIMD level), generic over the access.
 
 /// A state type the C kernels step: the C struct `rsl_contact_state`, or a packed history
 /// record ([`Record`]), with the copiers that move its groups between memory and the block.
