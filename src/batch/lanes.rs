@@ -57,8 +57,8 @@ pub trait Lanes: Real {
     /// A scratch array filled with `x`.
     fn arr<X: Copy>(x: X) -> Self::Arr<X>;
     /// Whether [`Lanes::add_zero_times`] is one fused instruction (the x86-64 lane types): then
-    /// the scene kernels' finiteness tests add each value with it, to one of four sums;
-    /// otherwise they sum a vector's three `0 x` first and add that to one sum.
+    /// the batch kernels' finiteness tests may add each value with it, to one of four sums
+    /// (fused); otherwise they sum a vector's three `0 x` first and add that to one sum.
     const FUSED_PROBE: bool = false;
     /// `acc + 0 x`, lane-wise: `0 x` is a zero where `x` is finite and NaN where it is
     /// infinite or NaN, so a sum that starts at zero stays a zero (of either sign) exactly while

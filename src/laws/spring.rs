@@ -58,8 +58,8 @@ pub struct SpringEnergy<T> {
 
 impl<T: Real> SpringEnergy<T> {
     /// All terms zero. Always inlined: with `T` a SIMD lane type, a call left out of line
-    /// would be compiled without the kernel's target features (LLVM left it out of the generic
-    /// double AVX2 batch kernel once the `slide+roll/lammps` scene was added).
+    /// would be compiled without the kernel's target features (LLVM once left it out of line
+    /// in the double AVX2 batch kernel).
     #[inline(always)]
     pub fn zero() -> Self {
         SpringEnergy {

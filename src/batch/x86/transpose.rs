@@ -412,7 +412,7 @@ fn set_slip_flags_at(states: [&mut rsl_contact_state; GROUP], slip: &[u32; GROUP
 /// (off-axis twisting part) and 9..13 (previous normal). A window also writes its neighbours'
 /// words from their rows, which hold the values the states hold (read by the gather, or
 /// written by the step): every word of every state ends as its row says. With every word
-/// written, this is four windows as before; the LAMMPS scene kernels write two or three.
+/// written, this is four windows; the LAMMPS-style law sets write two or three.
 ///
 /// # Safety
 /// The CPU must have AVX2; each `dst[k]` must be writable for a whole `rsl_contact_state` and
