@@ -5,8 +5,10 @@ against the new one (one kernel per SIMD level and precision, law decisions at r
 What it measures
   It builds the benchmark driver twice with the flags benches/batch.rs uses
   (cc -O3 -march=native -std=c11 -D_POSIX_C_SOURCE=199309L, the same system libraries):
-    old: --old-src (default /work/base/bench/bench.c) with --old-include (/work/base/include)
-         against --old-lib (/work/base/target/release/librollslide.a)
+    old: --old-src (default ../old/bench/bench.c, beside this checkout) with --old-include
+         (../old/include) against --old-lib (../old/target/release/librollslide.a): a
+         checkout of the other version, e.g. `git worktree add ../old 536037a` (0.2.0)
+         and `cargo build --release --lib` in it
     new: --new-src (bench/bench.c of this repository) with --new-include (include/)
          against --new-lib (target/release/librollslide.a)
   then, for each case (workload A at --contacts contacts, A at --cache-contacts (in cache),
@@ -72,9 +74,9 @@ def parse_args():
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=__doc__,
     )
-    p.add_argument("--old-src", default="/work/base/bench/bench.c")
-    p.add_argument("--old-include", default="/work/base/include")
-    p.add_argument("--old-lib", default="/work/base/target/release/librollslide.a")
+    p.add_argument("--old-src", default=os.path.join(ROOT, "..", "old", "bench", "bench.c"))
+    p.add_argument("--old-include", default=os.path.join(ROOT, "..", "old", "include"))
+    p.add_argument("--old-lib", default=os.path.join(ROOT, "..", "old", "target", "release", "librollslide.a"))
     p.add_argument("--new-src", default=os.path.join(ROOT, "bench", "bench.c"))
     p.add_argument("--new-include", default=os.path.join(ROOT, "include"))
     p.add_argument("--new-lib", default=os.path.join(ROOT, "target", "release", "librollslide.a"))
