@@ -8,8 +8,8 @@
  *
  * ABI: 0.3.0 breaks 0.2's: the scene kernels' constants, rsl_batch_scene, RSL_BATCH_GENERIC and
  * rsl_batch_report.scene are gone, and rsl_batch_contact_params gained `material` and `energy`:
- * rebuild against this header. The shared library's SONAME carries the minor version while the major is
- * 0 (librollslide.so.0.3), so a program built against 0.2 does not load it.
+ * rebuild against this header. The shared library's SONAME carries the minor version while the
+ * major is 0 (librollslide.so.0.3), so a program built against 0.2 does not load it.
  */
 
 #ifndef ROLLSLIDE_H
