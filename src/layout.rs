@@ -186,7 +186,33 @@ pub struct rsl_batch_loads {
 #[cfg(test)]
 pub(crate) mod tests {
     //! Test helpers of the C layouts, for the unit tests of the copiers and of the C layer.
-    use super::rsl_contact_state;
+    use super::{rsl_contact_state, rsl_vec3};
+
+    /// A small deterministic generator (the same values on every run and platform).
+    pub(crate) struct Lcg(pub(crate) u64);
+
+    impl Lcg {
+        /// The next value, uniform in `[0, 1)`.
+        pub(crate) fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        /// Uniform in `[lo, hi)`.
+        pub(crate) fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * self.next()
+        }
+        /// Each component uniform in `[-size, size)`.
+        pub(crate) fn vec(&mut self, size: f64) -> rsl_vec3 {
+            rsl_vec3 {
+                x: self.uniform(-size, size),
+                y: self.uniform(-size, size),
+                z: self.uniform(-size, size),
+            }
+        }
+    }
 
     /// Every field of a state as bits (so that NaN compares and -0 differs from 0).
     pub(crate) fn state_bits(s: &rsl_contact_state) -> Vec<u64> {

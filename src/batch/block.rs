@@ -22,9 +22,9 @@
 //! replaces: the results are bitwise the same.
 
 use super::{
-    energy_terms, geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport,
-    EnergyTerms, Lanes, LoadsSlot, Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess,
-    ENERGY_TERMS, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
+    energy_terms, geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport, Lanes,
+    LoadsSlot, Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess, ENERGY_TERMS,
+    SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
 };
 use crate::batch::SphereSlot;
 use crate::decompose::Sphere;
@@ -1105,8 +1105,8 @@ fn step_one<L: Lanes, A: StepAccess>(
                 torque2: arr(&r.torque2),
             },
         );
-        if access.wants_energy() {
-            access.emit_energy(c, &r.energy.map(|e| e.lane(0)));
+        if let Some(e) = access.energy_out() {
+            e[c] = r.energy.map(|e| e.lane(0));
         }
         report.processed += 1;
     } else {
@@ -1184,12 +1184,11 @@ fn deliver<A: StepAccess, X: GroupCopy<A::P, A::State>>(
         g += GROUP;
     }
     access.emit_block(copy, c0, ok, &b.loads);
-    if access.wants_energy() {
+    if let Some(e) = access.energy_out() {
         let mut bits = ok;
         while bits != 0 {
             let k = bits.trailing_zeros() as usize;
-            let terms: EnergyTerms = std::array::from_fn(|q| b.energy[q][k]);
-            access.emit_energy(c0 + k, &terms);
+            e[c0 + k] = std::array::from_fn(|q| b.energy[q][k]);
             bits &= bits - 1;
         }
     }
@@ -1241,7 +1240,7 @@ pub fn step_kernel<L: Lanes, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     let sliding = access.sliding_overrides();
     let given = Given::of(&sliding);
     // The energy terms go back only where the call asks for them.
-    let energy = model.track_energy && access.wants_energy();
+    let energy = model.track_energy && access.energy_out().is_some();
     let mut block = Block::new();
     let mut c0 = 0;
     while c0 < n {

@@ -386,16 +386,12 @@ pub trait StepAccess: Gather {
     );
     /// Delivers the loads of a successful step of contact `c`.
     fn emit(&mut self, c: usize, loads: &PairLoads);
-    /// Whether the call returns each stepped contact's energy terms ([`StepAccess::emit_energy`]);
-    /// none by default.
+    /// Where the call returns each stepped contact's energy terms (entry `c` for contact `c`),
+    /// if it does; `None` by default.
     #[inline(always)]
-    fn wants_energy(&self) -> bool {
-        false
+    fn energy_out(&mut self) -> Option<&mut [EnergyTerms]> {
+        None
     }
-    /// Delivers the energy terms of a successful step of contact `c` (when
-    /// [`StepAccess::wants_energy`]).
-    #[inline(always)]
-    fn emit_energy(&mut self, _c: usize, _terms: &EnergyTerms) {}
     /// The bodies and states of contacts `first..first + n` (`1 <= n <= GROUP`, all
     /// `< len()`), slot `k >= n` repeating the last, and a bit per slot whose particle indices
     /// were in range. The default goes contact by contact ([`Gather::body_refs`],
@@ -748,14 +744,8 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
         self.states.get(c)
     }
     #[inline(always)]
-    fn wants_energy(&self) -> bool {
-        self.energy.is_some()
-    }
-    #[inline(always)]
-    fn emit_energy(&mut self, c: usize, terms: &EnergyTerms) {
-        if let Some(e) = self.energy.as_deref_mut() {
-            e[c] = *terms;
-        }
+    fn energy_out(&mut self) -> Option<&mut [EnergyTerms]> {
+        self.energy.as_deref_mut()
     }
     #[inline(always)]
     fn emit(&mut self, c: usize, l: &PairLoads) {
@@ -979,14 +969,8 @@ impl<P: SphereSlot, S: StateSlot, O: LoadsSlot> StepAccess for ContactSteps<'_, 
         &self.states[c]
     }
     #[inline(always)]
-    fn wants_energy(&self) -> bool {
-        self.energy.is_some()
-    }
-    #[inline(always)]
-    fn emit_energy(&mut self, c: usize, terms: &EnergyTerms) {
-        if let Some(e) = self.energy.as_deref_mut() {
-            e[c] = *terms;
-        }
+    fn energy_out(&mut self) -> Option<&mut [EnergyTerms]> {
+        self.energy.as_deref_mut()
     }
     #[inline(always)]
     fn emit(&mut self, c: usize, l: &PairLoads) {

@@ -1123,26 +1123,8 @@ mod tests {
     use crate::batch::dispatch::Simd;
     use crate::capi::status::RSL_OK;
     use crate::laws::model::{Preset, RollingLaw, SlidingLaw, Transport, TwistingLaw};
-    use crate::layout::tests::state_bits;
+    use crate::layout::tests::{state_bits, Lcg};
     use crate::scalar::Vec3;
-
-    struct Lcg(u64);
-    impl Lcg {
-        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-        }
-        fn vec(&mut self, size: f64) -> rsl_vec3 {
-            rsl_vec3 {
-                x: self.uniform(-size, size),
-                y: self.uniform(-size, size),
-                z: self.uniform(-size, size),
-            }
-        }
-    }
 
     fn models() -> Vec<Model> {
         let mut full = Model::with_preset(Preset::Lammps2021);

@@ -27,33 +27,11 @@ use crate::batch::Simd;
 use crate::laws::model::{
     Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
 };
+use crate::layout::tests::{state_bits, Lcg};
 
 /// A live handle of `model` with this CPU's per-contact steps.
 fn live(model: Model) -> rsl_model {
     rsl_model::live(model, pair_steps())
-}
-
-/// A small deterministic generator (the same values on every run and platform).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-    fn vec(&mut self, scale: f64) -> rsl_vec3 {
-        rsl_vec3 {
-            x: self.uniform(-scale, scale),
-            y: self.uniform(-scale, scale),
-            z: self.uniform(-scale, scale),
-        }
-    }
 }
 
 /// The law sets of the test, one per preset family and rolling law kind: LAMMPS' full set,
@@ -216,19 +194,170 @@ fn bits(v: &rsl_vec3) -> [u64; 3] {
     [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
 }
 
-fn state_bits(s: &rsl_contact_state) -> Vec<u64> {
-    let mut out = Vec::new();
-    for v in [
-        &s.sliding_spring,
-        &s.rolling_spring,
-        &s.twisting_offaxis,
-        &s.previous_normal,
-    ] {
-        out.extend(bits(v));
+/// What one batch call left: its status and report, the states (in contact order) and the
+/// loads (per particle for the particle-major calls; per contact, as `force1`, `torque1`,
+/// `torque2`, for the contact-major one).
+struct Run {
+    status: i32,
+    report: rsl_batch_report,
+    states: Vec<rsl_contact_state>,
+    loads: Vec<rsl_vec3>,
+}
+
+/// `rsl_batch_step_params` on `c`'s contacts from their states; zeroed accumulators.
+fn step_params(
+    model: &rsl_model,
+    c: &Contacts,
+    params: &rsl_batch_contact_params,
+    o: Option<&rsl_batch_options>,
+) -> Run {
+    let (n, np) = (c.f_n.len(), c.particles.len());
+    let mut states = c.states.clone();
+    let (mut force, mut torque) = (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+    let mut report = rsl_batch_report::default();
+    // SAFETY: every array holds what the call reads or writes (`params`' arrays `n` entries);
+    // none overlap.
+    let status = unsafe {
+        rsl_batch_step_params(
+            model,
+            c.particles.as_ptr(),
+            np,
+            c.pairs.as_ptr(),
+            n,
+            c.f_n.as_ptr(),
+            c.k_n.as_ptr(),
+            params,
+            1e-4,
+            o.map_or(std::ptr::null(), |o| o as *const _),
+            states.as_mut_ptr(),
+            force.as_mut_ptr(),
+            torque.as_mut_ptr(),
+            &mut report,
+        )
+    };
+    force.extend(torque);
+    Run {
+        status,
+        report,
+        states,
+        loads: force,
     }
-    out.push(s.twisting_angle.to_bits());
-    out.push(u64::from(s.slip_flags));
-    out
+}
+
+/// `rsl_batch_step_indexed` on `c`'s contacts, their states in place at every other entry of a
+/// host array of `2 n` (the others never touched: checked here).
+fn step_indexed(
+    model: &rsl_model,
+    c: &Contacts,
+    params: &rsl_batch_contact_params,
+    o: &rsl_batch_options,
+) -> Run {
+    let (n, np) = (c.f_n.len(), c.particles.len());
+    let untouched = rsl_contact_state {
+        twisting_angle: 5.0,
+        ..Default::default()
+    };
+    let mut slots = vec![untouched; 2 * n];
+    for i in 0..n {
+        slots[2 * i + 1] = c.states[i];
+    }
+    let index: Vec<usize> = (0..n).map(|i| 2 * i + 1).collect();
+    let (mut force, mut torque) = (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
+    let mut report = rsl_batch_report::default();
+    // SAFETY: as in `step_params`; `slots` holds `2 n` states, `index` `n` increasing indices.
+    let status = unsafe {
+        rsl_batch_step_indexed(
+            model,
+            c.particles.as_ptr(),
+            np,
+            c.pairs.as_ptr(),
+            n,
+            c.f_n.as_ptr(),
+            c.k_n.as_ptr(),
+            params,
+            1e-4,
+            o,
+            slots.as_mut_ptr(),
+            2 * n,
+            index.as_ptr(),
+            force.as_mut_ptr(),
+            torque.as_mut_ptr(),
+            &mut report,
+        )
+    };
+    for i in 0..n {
+        assert_eq!(
+            state_bits(&slots[2 * i]),
+            state_bits(&untouched),
+            "slot {}",
+            2 * i
+        );
+    }
+    force.extend(torque);
+    Run {
+        status,
+        report,
+        states: (0..n).map(|i| slots[2 * i + 1]).collect(),
+        loads: force,
+    }
+}
+
+/// The value `step_contacts` leaves in the loads of a contact it skips.
+const SENTINEL: rsl_vec3 = rsl_vec3 {
+    x: 7.0,
+    y: 7.0,
+    z: 7.0,
+};
+
+/// `rsl_batch_step_contacts_params` on `c`'s contacts (bodies gathered per contact); the loads
+/// start as `SENTINEL`.
+fn step_contacts(
+    model: &rsl_model,
+    c: &Contacts,
+    params: &rsl_batch_contact_params,
+    o: &rsl_batch_options,
+) -> Run {
+    let n = c.f_n.len();
+    let body1: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i]).collect();
+    let body2: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i + 1]).collect();
+    let mut states = c.states.clone();
+    let sentinel = rsl_batch_loads {
+        force1: SENTINEL,
+        torque1: SENTINEL,
+        torque2: SENTINEL,
+    };
+    let mut out = vec![sentinel; n];
+    let mut report = rsl_batch_report::default();
+    // SAFETY: every array holds `n` elements; none overlap.
+    let status = unsafe {
+        rsl_batch_step_contacts_params(
+            model,
+            body1.as_ptr(),
+            body2.as_ptr(),
+            n,
+            c.f_n.as_ptr(),
+            c.k_n.as_ptr(),
+            params,
+            1e-4,
+            o,
+            states.as_mut_ptr(),
+            out.as_mut_ptr(),
+            &mut report,
+        )
+    };
+    Run {
+        status,
+        report,
+        states,
+        loads: out
+            .iter()
+            .flat_map(|l| [l.force1, l.torque1, l.torque2])
+            .collect(),
+    }
+}
+
+fn all_bits(v: &[rsl_vec3]) -> Vec<u64> {
+    v.iter().flat_map(bits).collect()
 }
 
 #[test]
@@ -271,51 +400,29 @@ fn each_contact_steps_as_its_material_pairs_model_bit_for_bit() {
             };
             for o in levels() {
                 let what = format!("{base:?} k_t {with_k_t} {o:?}");
-                let check = |status: i32, report: &rsl_batch_report| {
-                    assert_eq!(status, RSL_ERR_INVALID_ARGUMENT, "{what}");
-                    assert_eq!(report.failed, 2, "{what}");
-                    assert_eq!(report.processed, n as u64 - 2, "{what}");
-                    assert_eq!(report.first_failed, bad[0] as u64, "{what}");
-                    assert_eq!(report.first_status, RSL_ERR_INVALID_ARGUMENT, "{what}");
+                let check = |r: &Run| {
+                    assert_eq!(r.status, RSL_ERR_INVALID_ARGUMENT, "{what}");
+                    assert_eq!(r.report.failed, 2, "{what}");
+                    assert_eq!(r.report.processed, n as u64 - 2, "{what}");
+                    assert_eq!(r.report.first_failed, bad[0] as u64, "{what}");
+                    assert_eq!(r.report.first_status, RSL_ERR_INVALID_ARGUMENT, "{what}");
                 };
-                // Particle-major, states in contact order.
-                let mut states = c.states.clone();
+                // Particle-major, states in contact order; loads: forces, then torques.
                 let np = c.particles.len();
-                let (mut force, mut torque) =
-                    (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
-                let mut report = rsl_batch_report::default();
-                // SAFETY: every array holds what the call reads; none overlap.
-                let status = unsafe {
-                    rsl_batch_step_params(
-                        &model,
-                        c.particles.as_ptr(),
-                        np,
-                        c.pairs.as_ptr(),
-                        n,
-                        c.f_n.as_ptr(),
-                        c.k_n.as_ptr(),
-                        &params,
-                        1e-4,
-                        &o,
-                        states.as_mut_ptr(),
-                        force.as_mut_ptr(),
-                        torque.as_mut_ptr(),
-                        &mut report,
-                    )
-                };
-                check(status, &report);
-                for i in 0..n {
+                let p = step_params(&model, &c, &params, Some(&o));
+                check(&p);
+                let (force, torque) = p.loads.split_at(np);
+                for (i, (_, l, s)) in want.iter().enumerate() {
                     let (b1, b2) = (2 * i, 2 * i + 1);
                     if bad.contains(&i) {
-                        assert_eq!(state_bits(&states[i]), state_bits(&c.states[i]), "{what}");
-                        for p in [b1, b2] {
-                            assert_eq!(bits(&force[p]), [0; 3], "{what}: {i} wrote a force");
-                            assert_eq!(bits(&torque[p]), [0; 3], "{what}: {i} wrote a torque");
+                        assert_eq!(state_bits(&p.states[i]), state_bits(&c.states[i]), "{what}");
+                        for q in [b1, b2] {
+                            assert_eq!(bits(&force[q]), [0; 3], "{what}: {i} wrote a force");
+                            assert_eq!(bits(&torque[q]), [0; 3], "{what}: {i} wrote a torque");
                         }
                         continue;
                     }
-                    let (_, l, s) = &want[i];
-                    assert_eq!(state_bits(&states[i]), state_bits(s), "{what}: state {i}");
+                    assert_eq!(state_bits(&p.states[i]), state_bits(s), "{what}: state {i}");
                     assert_eq!(bits(&force[b1]), bits(&l.force1), "{what}: force {i}");
                     assert_eq!(bits(&torque[b1]), bits(&l.torque1), "{what}: torque1 {i}");
                     assert_eq!(bits(&torque[b2]), bits(&l.torque2), "{what}: torque2 {i}");
@@ -328,84 +435,29 @@ fn each_contact_steps_as_its_material_pairs_model_bit_for_bit() {
                     assert_eq!(bits(&force[b2]), bits(&minus), "{what}: force2 {i}");
                 }
                 // Histories where the host keeps them: the same bits.
-                let mut slots = vec![rsl_contact_state::default(); 2 * n];
-                for i in 0..n {
-                    slots[2 * i + 1] = c.states[i];
-                }
-                let index: Vec<usize> = (0..n).map(|i| 2 * i + 1).collect();
-                let (mut force2, mut torque2) =
-                    (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
-                let mut report = rsl_batch_report::default();
-                // SAFETY: as above; `slots` holds `2 n` states, `index` `n` increasing indices.
-                let status = unsafe {
-                    rsl_batch_step_indexed(
-                        &model,
-                        c.particles.as_ptr(),
-                        np,
-                        c.pairs.as_ptr(),
-                        n,
-                        c.f_n.as_ptr(),
-                        c.k_n.as_ptr(),
-                        &params,
-                        1e-4,
-                        &o,
-                        slots.as_mut_ptr(),
-                        2 * n,
-                        index.as_ptr(),
-                        force2.as_mut_ptr(),
-                        torque2.as_mut_ptr(),
-                        &mut report,
-                    )
-                };
-                check(status, &report);
-                for i in 0..n {
-                    assert_eq!(state_bits(&slots[2 * i + 1]), state_bits(&states[i]));
-                }
-                let all = |v: &[rsl_vec3]| v.iter().flat_map(bits).collect::<Vec<_>>();
-                assert_eq!(all(&force2), all(&force), "{what}: indexed forces");
-                assert_eq!(all(&torque2), all(&torque), "{what}: indexed torques");
+                let x = step_indexed(&model, &c, &params, &o);
+                check(&x);
+                let states = |r: &Run| r.states.iter().map(state_bits).collect::<Vec<_>>();
+                assert_eq!(states(&x), states(&p), "{what}: indexed states");
+                assert_eq!(
+                    all_bits(&x.loads),
+                    all_bits(&p.loads),
+                    "{what}: indexed loads"
+                );
                 // Contact-major.
-                let body1: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i]).collect();
-                let body2: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i + 1]).collect();
-                let mut states = c.states.clone();
-                let sentinel = rsl_batch_loads {
-                    force1: rsl_vec3 {
-                        x: 7.0,
-                        y: 7.0,
-                        z: 7.0,
-                    },
-                    ..Default::default()
-                };
-                let mut out = vec![sentinel; n];
-                let mut report = rsl_batch_report::default();
-                // SAFETY: every array holds `n` elements; none overlap.
-                let status = unsafe {
-                    rsl_batch_step_contacts_params(
-                        &model,
-                        body1.as_ptr(),
-                        body2.as_ptr(),
-                        n,
-                        c.f_n.as_ptr(),
-                        c.k_n.as_ptr(),
-                        &params,
-                        1e-4,
-                        &o,
-                        states.as_mut_ptr(),
-                        out.as_mut_ptr(),
-                        &mut report,
-                    )
-                };
-                check(status, &report);
+                let k = step_contacts(&model, &c, &params, &o);
+                check(&k);
                 for i in 0..n {
+                    let loads = &k.loads[3 * i..3 * i + 3];
                     if bad.contains(&i) {
-                        assert_eq!(bits(&out[i].force1), bits(&sentinel.force1), "{what}");
-                        assert_eq!(state_bits(&states[i]), state_bits(&c.states[i]));
+                        assert_eq!(all_bits(loads), all_bits(&[SENTINEL; 3]), "{what}");
+                        assert_eq!(state_bits(&k.states[i]), state_bits(&c.states[i]));
                         continue;
                     }
                     let (_, l, s) = &want[i];
-                    assert_eq!(state_bits(&states[i]), state_bits(s), "{what}: state {i}");
-                    assert_eq!(bits(&out[i].force1), bits(&l.force1), "{what}: {i}");
-                    assert_eq!(bits(&out[i].torque2), bits(&l.torque2), "{what}: {i}");
+                    assert_eq!(state_bits(&k.states[i]), state_bits(s), "{what}: state {i}");
+                    let want = [l.force1, l.torque1, l.torque2];
+                    assert_eq!(all_bits(loads), all_bits(&want), "{what}: loads {i}");
                 }
             }
         }
@@ -520,42 +572,30 @@ fn the_batch_calls_return_each_contacts_energy_terms_bit_for_bit() {
             transport: 99.0,
             ..Default::default()
         };
+        let with_energy = |energy: &mut Vec<rsl_contact_energy>| rsl_batch_contact_params {
+            sliding_stiffness: std::ptr::null(),
+            sliding_damping: std::ptr::null(),
+            material: std::ptr::null(),
+            energy: energy.as_mut_ptr(),
+        };
+        let energy_of = |e: &[rsl_contact_energy]| e.iter().map(energy_bits).collect::<Vec<_>>();
         for o in levels() {
             let what = format!("{base:?} {o:?}");
-            let np = c.particles.len();
+            let check = |r: &Run| {
+                assert_eq!(r.status, want[skipped].0, "{what}");
+                assert_eq!(
+                    (r.report.failed, r.report.first_failed),
+                    (1, skipped as u64)
+                );
+            };
             // Particle-major.
             let mut energy = vec![sentinel; n];
-            let params = rsl_batch_contact_params {
-                sliding_stiffness: std::ptr::null(),
-                sliding_damping: std::ptr::null(),
-                material: std::ptr::null(),
-                energy: energy.as_mut_ptr(),
-            };
-            let mut states = c.states.clone();
-            let (mut force, mut torque) =
-                (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
-            let mut report = rsl_batch_report::default();
-            // SAFETY: every array holds what the call reads or writes; none overlap.
-            let status = unsafe {
-                rsl_batch_step_params(
-                    &model,
-                    c.particles.as_ptr(),
-                    np,
-                    c.pairs.as_ptr(),
-                    n,
-                    c.f_n.as_ptr(),
-                    c.k_n.as_ptr(),
-                    &params,
-                    1e-4,
-                    &o,
-                    states.as_mut_ptr(),
-                    force.as_mut_ptr(),
-                    torque.as_mut_ptr(),
-                    &mut report,
-                )
-            };
-            assert_eq!(want[skipped].0, status, "{what}");
-            assert_eq!((report.failed, report.first_failed), (1, skipped as u64));
+            check(&step_params(
+                &model,
+                &c,
+                &with_energy(&mut energy),
+                Some(&o),
+            ));
             for i in 0..n {
                 if i == skipped {
                     assert_eq!(energy_bits(&energy[i]), energy_bits(&sentinel), "{what}");
@@ -569,106 +609,29 @@ fn the_batch_calls_return_each_contacts_energy_terms_bit_for_bit() {
             assert!(energy
                 .iter()
                 .any(|e| e.elastic_sliding > 0.0 || e.slider_rolling > 0.0));
-            // Histories where the host keeps them.
-            let mut energy2 = vec![sentinel; n];
-            let params2 = rsl_batch_contact_params {
-                energy: energy2.as_mut_ptr(),
-                ..params
-            };
-            let mut slots = c.states.clone();
-            let index: Vec<usize> = (0..n).collect();
-            let (mut force2, mut torque2) =
-                (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
-            // SAFETY: as above.
-            unsafe {
-                rsl_batch_step_indexed(
-                    &model,
-                    c.particles.as_ptr(),
-                    np,
-                    c.pairs.as_ptr(),
-                    n,
-                    c.f_n.as_ptr(),
-                    c.k_n.as_ptr(),
-                    &params2,
-                    1e-4,
-                    &o,
-                    slots.as_mut_ptr(),
-                    n,
-                    index.as_ptr(),
-                    force2.as_mut_ptr(),
-                    torque2.as_mut_ptr(),
-                    &mut report,
-                )
-            };
-            let all = |v: &[rsl_contact_energy]| v.iter().map(energy_bits).collect::<Vec<_>>();
-            assert_eq!(all(&energy2), all(&energy), "{what}: indexed");
-            // Contact-major.
-            let mut energy3 = vec![sentinel; n];
-            let params3 = rsl_batch_contact_params {
-                energy: energy3.as_mut_ptr(),
-                ..params
-            };
-            let body1: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i]).collect();
-            let body2: Vec<rsl_sphere> = (0..n).map(|i| c.particles[2 * i + 1]).collect();
-            let mut states = c.states.clone();
-            let mut out = vec![rsl_batch_loads::default(); n];
-            // SAFETY: every array holds `n` elements; none overlap.
-            unsafe {
-                rsl_batch_step_contacts_params(
-                    &model,
-                    body1.as_ptr(),
-                    body2.as_ptr(),
-                    n,
-                    c.f_n.as_ptr(),
-                    c.k_n.as_ptr(),
-                    &params3,
-                    1e-4,
-                    &o,
-                    states.as_mut_ptr(),
-                    out.as_mut_ptr(),
-                    &mut report,
-                )
-            };
-            assert_eq!(all(&energy3), all(&energy), "{what}: contact-major");
+            // Histories where the host keeps them, and contact-major: the same entries.
+            let mut indexed = vec![sentinel; n];
+            check(&step_indexed(&model, &c, &with_energy(&mut indexed), &o));
+            assert_eq!(energy_of(&indexed), energy_of(&energy), "{what}: indexed");
+            let mut contacts = vec![sentinel; n];
+            check(&step_contacts(&model, &c, &with_energy(&mut contacts), &o));
+            assert_eq!(
+                energy_of(&contacts),
+                energy_of(&energy),
+                "{what}: contact-major"
+            );
         }
         // A model that does not track energy: refused, nothing processed or written.
         let plain = live(base);
         let mut energy = vec![sentinel; n];
-        let params = rsl_batch_contact_params {
-            sliding_stiffness: std::ptr::null(),
-            sliding_damping: std::ptr::null(),
-            material: std::ptr::null(),
-            energy: energy.as_mut_ptr(),
-        };
-        let np = c.particles.len();
-        let mut states = c.states.clone();
-        let (mut force, mut torque) =
-            (vec![rsl_vec3::default(); np], vec![rsl_vec3::default(); np]);
-        let mut report = rsl_batch_report::default();
-        // SAFETY: as above.
-        let status = unsafe {
-            rsl_batch_step_params(
-                &plain,
-                c.particles.as_ptr(),
-                np,
-                c.pairs.as_ptr(),
-                n,
-                c.f_n.as_ptr(),
-                c.k_n.as_ptr(),
-                &params,
-                1e-4,
-                std::ptr::null(),
-                states.as_mut_ptr(),
-                force.as_mut_ptr(),
-                torque.as_mut_ptr(),
-                &mut report,
-            )
-        };
-        assert_eq!(status, RSL_ERR_INVALID_ARGUMENT);
-        assert_eq!((report.processed, report.failed), (0, 0));
+        let r = step_params(&plain, &c, &with_energy(&mut energy), None);
+        assert_eq!(r.status, RSL_ERR_INVALID_ARGUMENT);
+        assert_eq!((r.report.processed, r.report.failed), (0, 0));
         assert!(energy
             .iter()
             .all(|e| energy_bits(e) == energy_bits(&sentinel)));
-        assert!(force.iter().all(|f| bits(f) == [0; 3]));
+        assert!(r.loads.iter().all(|f| bits(f) == [0; 3]));
+        let states = |v: &[rsl_contact_state]| v.iter().map(state_bits).collect::<Vec<_>>();
+        assert_eq!(states(&r.states), states(&c.states));
     }
 }
