@@ -9,6 +9,7 @@
 #ifndef ROLLSLIDE_PAIR_GRANULAR_ROLLSLIDE_H
 #define ROLLSLIDE_PAIR_GRANULAR_ROLLSLIDE_H
 
+#include "granular_model.h"
 #include "pair.h"
 #include "rollslide.h"
 
@@ -36,28 +37,7 @@ class PairGranularRollslide : public Pair {
   [[noreturn]] void library_error(const char *call, int32_t status, tagint id1, tagint id2);
   [[noreturn]] void fail(const std::string &message);
 
-  enum Normal { HOOKE, HERTZ, HERTZ_MATERIAL };
-  enum Damping { VELOCITY, MASS_VELOCITY, VISCOELASTIC, TSUJI };
-  enum Tangential { LINEAR_HISTORY, MINDLIN };
-  enum Twist { TWIST_NONE, TWIST_SDS, TWIST_MARSHALL };
-
-  struct Coeffs {
-    bool set = false;
-    int normal = HOOKE;
-    double kn = 0.0;         // LAMMPS' normal_coeffs[0] (hertz/material: 4/3 E*)
-    double damp = 0.0;       // eta_n (tsuji: from the restitution coefficient)
-    double emod = 0.0, poisson = 0.0;
-    int damping = VISCOELASTIC;
-    int tangential = LINEAR_HISTORY;
-    double kt = 0.0, xgammat = 0.0, mu_s = 0.0;
-    bool rolling = false;
-    double kr = 0.0, gr = 0.0, mu_r = 0.0;
-    int twist = TWIST_NONE;
-    double ktw = 0.0, gtw = 0.0, mu_tw = 0.0;
-    bool limit_damping = false;
-    double cutoff = -1.0;
-    bool operator==(const Coeffs &o) const;
-  };
+  using Coeffs = granular::Coeffs;
 
  private:
   int preset = RSL_PRESET_OBJECTIVE;

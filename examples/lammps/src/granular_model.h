@@ -1,0 +1,114 @@
+// The granular contact model shared by pair_style granular/rollslide and fix
+// wall/gran/rollslide: the coefficients of LAMMPS' granular keywords (the supported subset), their
+// parsing, the rollslide library model they make, and the normal force as LAMMPS 20220106
+// computes it (with the normal spring's energy and the normal dashpot's force, which the energy
+// compute needs).
+#ifndef ROLLSLIDE_GRANULAR_MODEL_H
+#define ROLLSLIDE_GRANULAR_MODEL_H
+
+#include "rollslide.h"
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+namespace LAMMPS_NS {
+
+class LAMMPS;
+
+namespace granular {
+
+enum Normal { HOOKE, HERTZ, HERTZ_MATERIAL };
+enum Damping { VELOCITY, MASS_VELOCITY, VISCOELASTIC, TSUJI };
+enum Tangential { LINEAR_HISTORY, MINDLIN };
+enum Twist { TWIST_NONE, TWIST_SDS, TWIST_MARSHALL };
+
+// One contact model's coefficients, stored as LAMMPS' pair granular stores them.
+struct Coeffs {
+  bool set = false;
+  int normal = HOOKE;
+  double kn = 0.0;         // LAMMPS' normal_coeffs[0] (hertz/material: 4/3 E*)
+  double damp = 0.0;       // eta_n (tsuji: from the restitution coefficient)
+  double emod = 0.0, poisson = 0.0;
+  int damping = VISCOELASTIC;
+  int tangential = LINEAR_HISTORY;
+  double kt = 0.0, xgammat = 0.0, mu_s = 0.0;
+  bool rolling = false;
+  double kr = 0.0, gr = 0.0, mu_r = 0.0;
+  int twist = TWIST_NONE;
+  double ktw = 0.0, gtw = 0.0, mu_tw = 0.0;
+  bool limit_damping = false;
+  double cutoff = -1.0;
+  bool operator==(const Coeffs &o) const;
+};
+
+// Reports a bad argument: a LAMMPS error with the caller's prefix; never returns.
+using Fail = std::function<void(const std::string &)>;
+
+// Parses pair granular's keywords (the supported subset) from arg[iarg], arg[iarg + 1], ...
+// into `c`, up to narg or, if `stop` is given, up to the first word for which stop(word) is
+// true; returns the index of the first word not parsed. A word that is neither a keyword nor a
+// stop word, missing parameters, or a missing normal or tangential model is reported to
+// `fail`, naming the keyword (`what` prefixes the messages, e.g. "pair_coeff").
+int parse(LAMMPS *lmp, int narg, char **arg, int iarg, Coeffs &c, const std::string &what,
+          const Fail &fail, const std::function<bool(const char *)> &stop = nullptr);
+
+// A library model of the preset (RSL_PRESET_*) with coefficients `c` (the sliding dashpot per
+// contact unless `damping velocity`, see NormalForce::sliding_damping), energy tracking on if
+// `track_energy`; nullptr with `error` set if the library refuses them.
+rsl_model *new_model(int32_t preset, const Coeffs &c, bool track_energy, std::string &error);
+
+// The normal force of one contact, as LAMMPS 20220106's granular models compute it, and the
+// per-contact sliding coefficients that go with it.
+struct NormalForce {
+  double force;              // total normal force (compressive positive), dashpot included
+  double damping_force;      // the dashpot's part of `force` before limit_damping: -eta vn
+  double elastic;            // energy of the normal spring at this overlap
+  double sliding_stiffness;  // k_t (mindlin: k_t a)
+  double sliding_damping;    // gamma_t = xgammat times the normal dashpot's prefactor
+  bool per_contact_stiffness, per_contact_damping;  // whether the step must pass them
+};
+// delta: overlap (> 0); reff: effective radius; meff: effective mass; vn: normal velocity of
+// body 1 relative to body 2 along the normal from body 2 to body 1 (negative while approaching).
+// Inline: the pair style calls it once per touching pair.
+inline NormalForce normal_force(const Coeffs &c, double delta, double reff, double meff, double vn)
+{
+  // The arithmetic of pair granular 20220106, operation for operation (its tests compare bits).
+  const double dR = delta * reff;
+  double knfac = c.kn;
+  double Fne = knfac * delta;
+  const double a = sqrt(dR);
+  if (c.normal != HOOKE) {
+    Fne *= a;
+    knfac *= a;
+  }
+  double damp_normal;
+  switch (c.damping) {
+    case VELOCITY: damp_normal = 1; break;
+    case MASS_VELOCITY: damp_normal = meff; break;
+    case VISCOELASTIC: damp_normal = a * meff; break;
+    default: damp_normal = sqrt(meff * knfac); break;
+  }
+  const double damp_normal_prefactor = c.damp * damp_normal;
+  NormalForce out;
+  out.damping_force = -damp_normal_prefactor * vn;
+  out.force = Fne + out.damping_force;
+  if (c.limit_damping && out.force < 0.0) out.force = 0.0;
+  // Hooke: F = k delta, energy k delta^2 / 2; Hertz: F = k sqrt(R) delta^(3/2), energy
+  // (2/5) k sqrt(R) delta^(5/2) = (2/5) F delta.
+  out.elastic = (c.normal == HOOKE ? 0.5 : 0.4) * Fne * delta;
+  // The per-contact sliding coefficients of pair granular: the tangential dashpot scales with
+  // the normal one for every damping model but velocity (with velocity it is the model's
+  // constant xgammat eta_n, to the bit), mindlin's k_t with a (linear_history's is the model's
+  // constant).
+  out.per_contact_damping = c.damping != VELOCITY;
+  out.per_contact_stiffness = c.tangential == MINDLIN;
+  out.sliding_damping = c.xgammat * damp_normal_prefactor;
+  out.sliding_stiffness = out.per_contact_stiffness ? c.kt * a : c.kt;
+  return out;
+}
+
+}    // namespace granular
+}    // namespace LAMMPS_NS
+
+#endif
