@@ -2,12 +2,8 @@
 //! 20220106 with `pair_style granular/rollslide`) against the rollslide package installed by
 //! this repository's CMake build, and runs it next to stock LAMMPS' `pair_style granular`.
 //!
-//! Skipped, with a message saying what is missing, when LAMMPS (`lmp`, `liblammps-dev`), MPI
-//! (`mpirun`, `mpicxx`: `mpi-default-dev`) or `cmake` are not installed (`apt-get install lammps
-//! liblammps-dev mpi-default-dev cmake`). The build needs LAMMPS' own `neigh_request.h`, which
-//! liblammps-dev lacks: the example's CMake takes it from Debian's source tarball of that
-//! LAMMPS version, downloaded once into `target/tmp/lammps/lammps-source/` (or given with
-//! `ROLLSLIDE_LAMMPS_SOURCE_TARBALL=<path>`).
+//! Reported as ignored, with what is missing, when LAMMPS, MPI, cmake or LAMMPS' source tarball
+//! (for `neigh_request.h`) are not there: see `tests/common/lammps.rs`.
 //!
 //! The scenes are `examples/lammps/inputs/` (4096 polydisperse spheres in a compressed periodic
 //! packing; two spheres rolling across a subdomain boundary; a rigidly rotating pair). Loads are
@@ -24,267 +20,34 @@
 
 mod common;
 
-use common::linking::{run, shared_cmake_cargo_dir};
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use common::lammps::{compare, diff, inputs, lammps, norm, read_dump, rundir, thermo, trial};
+use std::path::Path;
 use std::process::Command;
-use std::sync::OnceLock;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn work() -> PathBuf {
-    Path::new(env!("CARGO_TARGET_TMPDIR")).join("lammps")
-}
-
-fn inputs() -> PathBuf {
-    root().join("examples/lammps/inputs")
-}
-
-fn works(program: &str, arg: &str) -> bool {
-    Command::new(program)
-        .arg(arg)
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
-/// What is missing for these tests, empty if nothing.
-fn missing() -> Vec<&'static str> {
-    let mut miss = Vec::new();
-    if !works("lmp", "-h") {
-        miss.push("lmp (apt-get install lammps)");
-    }
-    if !Path::new("/usr/include/lammps/pair.h").exists()
-        || !Path::new("/usr/lib/x86_64-linux-gnu/cmake/LAMMPS/LAMMPSConfig.cmake").exists()
-    {
-        miss.push("liblammps-dev");
-    }
-    if !works("mpirun", "--version") || !works("mpicxx", "--version") {
-        miss.push("mpirun and mpicxx (apt-get install mpi-default-dev openmpi-bin)");
-    }
-    if !works("cmake", "--version") {
-        miss.push("cmake");
-    }
-    miss
-}
-
-/// `lmp_rollslide`, built once per test process (None: skipped).
-fn binary() -> Option<&'static PathBuf> {
-    static BINARY: OnceLock<Option<PathBuf>> = OnceLock::new();
-    BINARY
-        .get_or_init(|| {
-            let miss = missing();
-            if !miss.is_empty() {
-                println!(
-                    "SKIPPED: the LAMMPS tests need {} (apt-get install lammps liblammps-dev \
-                     mpi-default-dev cmake)",
-                    miss.join(", ")
-                );
-                return None;
-            }
-            exclusive();
-            Some(build())
-        })
-        .as_ref()
-}
-
-/// `cargo test` and `cargo test --release` share `target/tmp/lammps` (the build, the run
-/// directories): a second test process waits here until the first has exited (the lock is
-/// released when the process ends).
-fn exclusive() {
-    static LOCK: OnceLock<std::fs::File> = OnceLock::new();
-    LOCK.get_or_init(|| {
-        std::fs::create_dir_all(work()).unwrap();
-        let file = std::fs::File::create(work().join("lock")).unwrap();
-        file.lock().expect("cannot lock target/tmp/lammps/lock");
-        file
-    });
-}
-
-/// Installs rollslide with the repository's CMake build into a prefix, then builds
-/// examples/lammps against it (incremental on later runs).
-fn build() -> PathBuf {
-    let w = work();
-    let (rsl_build, prefix, build) = (w.join("rsl-build"), w.join("prefix"), w.join("build"));
-    run(Command::new("cmake")
-        .arg("-S")
-        .arg(root())
-        .arg("-B")
-        .arg(&rsl_build)
-        .arg(format!("-DCMAKE_INSTALL_PREFIX={}", prefix.display()))
-        .arg(shared_cmake_cargo_dir())
-        .arg("-DROLLSLIDE_BUILD_TESTS=OFF"));
-    run(Command::new("cmake")
-        .args(["--build"])
-        .arg(&rsl_build)
-        .args(["-j2"]));
-    run(Command::new("cmake").arg("--install").arg(&rsl_build));
-    let mut configure = Command::new("cmake");
-    configure
-        .arg("-S")
-        .arg(root().join("examples/lammps"))
-        .arg("-B")
-        .arg(&build)
-        .arg(format!("-DCMAKE_PREFIX_PATH={}", prefix.display()))
-        .arg(format!(
-            "-DROLLSLIDE_LAMMPS_CACHE={}",
-            w.join("lammps-source").display()
-        ));
-    if let Some(tarball) = std::env::var_os("ROLLSLIDE_LAMMPS_SOURCE_TARBALL") {
-        configure.arg(format!(
-            "-DLAMMPS_SOURCE_TARBALL={}",
-            Path::new(&tarball).display()
-        ));
-    }
-    run(&mut configure);
-    run(Command::new("cmake").arg("--build").arg(&build).arg("-j2"));
-    let exe = build.join("lmp_rollslide");
-    assert!(exe.exists(), "{} was not built", exe.display());
-    exe
-}
-
-/// A directory of its own for one test's runs.
-fn rundir(name: &str) -> PathBuf {
-    let d = work().join("runs").join(name);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// Runs `lmp_rollslide` (stock LAMMPS' styles included) on `input` with `np` MPI ranks in
-/// `dir`; `vars` are `-var` pairs. Returns the log.
-fn lammps(exe: &Path, dir: &Path, np: usize, input: &str, vars: &[(&str, &str)]) -> String {
-    let log = dir.join(format!("log.{}", vars_tag(vars)));
-    let mut cmd = if np == 1 {
-        Command::new(exe)
-    } else {
-        let mut c = Command::new("mpirun");
-        c.args(["--allow-run-as-root", "-np", &np.to_string()])
-            .arg(exe);
-        c
-    };
-    cmd.current_dir(dir)
-        .arg("-in")
-        .arg(inputs().join(input))
-        .arg("-log")
-        .arg(&log)
-        .args(["-screen", "none"]);
-    for (k, v) in vars {
-        cmd.args(["-var", k, v]);
-    }
-    run(&mut cmd);
-    std::fs::read_to_string(&log).unwrap()
-}
-
-fn vars_tag(vars: &[(&str, &str)]) -> String {
-    vars.iter()
-        .map(|(k, v)| format!("{k}-{v}"))
-        .collect::<Vec<_>>()
-        .join("_")
-        .replace(['/', ' '], "")
-}
-
-/// A `dump custom` file: per step, the rows sorted by atom ID.
-type Dump = BTreeMap<u64, Vec<Vec<f64>>>;
-
-fn read_dump(path: &Path) -> Dump {
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    let lines: Vec<&str> = text.lines().collect();
-    let mut out = Dump::new();
-    let mut k = 0;
-    while k < lines.len() {
-        if lines[k].starts_with("ITEM: TIMESTEP") {
-            let step: u64 = lines[k + 1].trim().parse().unwrap();
-            let n: usize = lines[k + 3].trim().parse().unwrap();
-            let mut a = k + 4;
-            while !lines[a].starts_with("ITEM: ATOMS") {
-                a += 1;
-            }
-            let rows = lines[a + 1..a + 1 + n]
-                .iter()
-                .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
-                .collect();
-            out.insert(step, rows);
-            k = a + 1 + n;
-        } else {
-            k += 1;
-        }
-    }
-    out
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-fn diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y) * (x - y))
-        .sum::<f64>()
-        .sqrt()
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    v[v.len() / 2]
-}
-
-/// Worst per-atom differences of force (columns 1-3) and torque (4-6) at one step: relative
-/// to the atom's own load (floored at 1e-3 of the median load, for the few atoms whose contact
-/// loads cancel), and the largest difference over the median load.
-struct Worst {
-    relative: f64,
-    over_median: f64,
-}
-
-fn compare(a: &[Vec<f64>], b: &[Vec<f64>]) -> (Worst, Worst) {
-    assert_eq!(a.len(), b.len(), "different atom counts");
-    let mut out = Vec::new();
-    for cols in [1..4, 4..7] {
-        let med = median(a.iter().map(|r| norm(&r[cols.clone()])).collect());
-        let mut w = Worst {
-            relative: 0.0,
-            over_median: 0.0,
-        };
-        for (ra, rb) in a.iter().zip(b) {
-            assert_eq!(ra[0], rb[0], "atom IDs differ");
-            let d = diff(&ra[cols.clone()], &rb[cols.clone()]);
-            let own = norm(&ra[cols.clone()]).max(1e-3 * med);
-            w.relative = w.relative.max(d / own);
-            w.over_median = w.over_median.max(d / med);
-        }
-        out.push(w);
-    }
-    let t = out.pop().unwrap();
-    (out.pop().unwrap(), t)
-}
-
-/// Thermo rows of a log (the columns of in.packing's thermo_style), from every run in it.
-fn thermo(log: &str) -> Vec<Vec<f64>> {
-    let mut rows = Vec::new();
-    let mut inside = false;
-    for line in log.lines() {
-        if line.starts_with("Step ") {
-            inside = true;
-            continue;
-        }
-        if line.starts_with("Loop time") {
-            inside = false;
-        }
-        if inside {
-            if let Ok(r) = line
-                .split_whitespace()
-                .map(|x| x.parse::<f64>())
-                .collect::<Result<Vec<_>, _>>()
-            {
-                rows.push(r);
-            }
-        }
-    }
-    rows
+fn main() {
+    common::lammps::run_trials(vec![
+        trial(
+            "stock_granular_and_granular_rollslide_lammps_agree",
+            stock_granular_and_granular_rollslide_lammps_agree,
+        ),
+        trial(
+            "several_atom_types_stock_granular_and_granular_rollslide_lammps_agree",
+            several_atom_types_stock_granular_and_granular_rollslide_lammps_agree,
+        ),
+        trial(
+            "mpi_ranks_newton_and_sorting_carry_the_history",
+            mpi_ranks_newton_and_sorting_carry_the_history,
+        ),
+        trial("restart_continues_the_run", restart_continues_the_run),
+        trial(
+            "objective_preset_in_a_rigid_rotation",
+            objective_preset_in_a_rigid_rotation,
+        ),
+        trial(
+            "bad_input_is_a_lammps_error_with_a_message",
+            bad_input_is_a_lammps_error_with_a_message,
+        ),
+    ]);
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -304,9 +67,7 @@ fn thermo(log: &str) -> Vec<Vec<f64>> {
 /// rotational energy, coordination number, mean |torque|, pressure): within 1e-6 of each quantity's
 /// largest value at every 100th step; rounding grows to ~1e-9 per atom by step 3000
 /// (measured), while any difference of law changes these curves at the percent level.
-#[test]
-fn stock_granular_and_granular_rollslide_lammps_agree() {
-    let Some(exe) = binary() else { return };
+fn stock_granular_and_granular_rollslide_lammps_agree(exe: &Path) {
     let dir = rundir("agree");
     for law in ["A", "B", "C", "E"] {
         let mut dumps = Vec::new();
@@ -398,9 +159,7 @@ fn stock_granular_and_granular_rollslide_lammps_agree() {
 /// packing moving through the subdomains as in (b): the loads at step 600 are those of one rank
 /// to 1e-8 of the median load (the contacts with a ghost atom, in the other batch call, and
 /// the state swaps, with the model of the swapped type pair).
-#[test]
-fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree() {
-    let Some(exe) = binary() else { return };
+fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree(exe: &Path) {
     let dir = rundir("types");
     for law in ["A", "B", "M"] {
         let mut dumps = Vec::new();
@@ -557,9 +316,7 @@ fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree() {
 /// subdomain boundary and a periodic wrap keeps its spring: its rolling torque after 6000 steps
 /// is the analytic `R_eff k_r N |v_r| dt` to 1e-9 with 1 and 2 ranks, newton on and off; stock
 /// LAMMPS with newton off loses it (asserted as the control).
-#[test]
-fn mpi_ranks_newton_and_sorting_carry_the_history() {
-    let Some(exe) = binary() else { return };
+fn mpi_ranks_newton_and_sorting_carry_the_history(exe: &Path) {
     let dir = rundir("mpi");
     let packing = |np: usize, pair: &str, preset: &str, newton: &str, sort: &str| {
         let dump = format!(
@@ -713,9 +470,7 @@ fn mpi_ranks_newton_and_sorting_carry_the_history() {
 /// twisting limit whose rate changes sign between the half and the full step has its spring
 /// reversed by that extra pass. Stock LAMMPS does the same; the objective preset, without
 /// damping, has no such effect (first case).
-#[test]
-fn restart_continues_the_run() {
-    let Some(exe) = binary() else { return };
+fn restart_continues_the_run(exe: &Path) {
     let dir = rundir("restart");
     for (law, preset) in [("D", "objective"), ("A", "lammps")] {
         let common = [
@@ -789,9 +544,7 @@ fn restart_continues_the_run() {
 /// velocity loads the sliding spring until friction holds it at `mu_s F_n` (a torque
 /// `(R1 - delta/2) mu_s F_n` on sphere 1 after a quarter turn); the objective preset keeps the
 /// force normal and the torque zero (below 1e-10 of `F_n` and of `R1 F_n`).
-#[test]
-fn objective_preset_in_a_rigid_rotation() {
-    let Some(exe) = binary() else { return };
+fn objective_preset_in_a_rigid_rotation(exe: &Path) {
     let dir = rundir("rigid_rotation");
     let go = |pair: &str, preset: &str| {
         let dump = format!(
@@ -858,9 +611,7 @@ fn objective_preset_in_a_rigid_rotation() {
 /// named, coefficients the library refuses carry its message, and a contact the library
 /// refuses (two atoms at the same place) names both atom IDs and the library's message, with
 /// one rank and with two.
-#[test]
-fn bad_input_is_a_lammps_error_with_a_message() {
-    let Some(exe) = binary() else { return };
+fn bad_input_is_a_lammps_error_with_a_message(exe: &Path) {
     let dir = rundir("bad_input");
     let ok = "hooke 1e4 0 tangential linear_history 1e4 0 0.5 rolling sds 1 1 1 twisting sds 1 1 1";
     let cases: [(usize, &str, &str, &str); 6] = [
