@@ -167,6 +167,16 @@ pub struct rsl_legacy_rolling {
 }
 
 /// Energy terms of one step (load times length; 0 unless the model tracks energy).
+///
+/// Per mode (sliding, rolling, twisting), the work the step's load took out of the relative
+/// motion equals the change of elastic energy plus dashpot plus slider (plus `transport`): the
+/// budget of a simulation closes with them, up to the integrator's error (first order in the
+/// time step). While a spring sticks its slider term is 0 and the work is the spring's midpoint
+/// work plus the dashpot's; while it slips, the work is that of the applied, clipped load. Only
+/// the sum of a mode's dashpot and slider terms is the mode's dissipation: while the spring
+/// slips under the clip rules that keep the dashpot inside the limit (LAMMPS', the objective
+/// preset's), the reset spring can take back part of what the dashpot term counts, and the
+/// slider term is then negative.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct rsl_contact_energy {
@@ -182,11 +192,11 @@ pub struct rsl_contact_energy {
     pub dashpot_rolling: f64,
     /// Dissipated by the twisting dashpot this step.
     pub dashpot_twisting: f64,
-    /// Dissipated by the sliding slider (friction) this step.
+    /// Dissipated by the sliding slider (friction) this step: 0 while the spring sticks.
     pub slider_sliding: f64,
-    /// Dissipated by the rolling slider (cdt included) this step.
+    /// Dissipated by the rolling slider (cdt included) this step: 0 while the spring sticks.
     pub slider_rolling: f64,
-    /// Dissipated by the twisting slider this step.
+    /// Dissipated by the twisting slider this step: 0 while the spring sticks.
     pub slider_twisting: f64,
     /// Change of elastic energy caused by transporting the springs this step (0 to rounding
     /// for exact and project-rescale transport).

@@ -4,7 +4,9 @@
 //! whose squared length overflows (about 1.3e154 in `f64`) is clipped from a rescaled copy
 //! ([`rescale_overflowed`]) in its lane only, so it gets its limit, not zero.
 
-use crate::scalar::{lit, mask, norm_squared, rescale_overflowed, select, select3, Real, Vec3};
+use crate::scalar::{
+    dot, lit, mask, norm_squared, rescale_overflowed, select, select3, Real, Vec3,
+};
 use simba::simd::SimdBool;
 
 /// How the limit is applied when the trial load exceeds it.
@@ -51,8 +53,13 @@ pub struct SpringEnergy<T> {
     pub elastic: T,
     /// Dissipated by the dashpot this step, `gamma |v|^2 dt` when it acted.
     pub dashpot: T,
-    /// Dissipated by the slider this step: the elastic energy the slip released,
-    /// `(|E_trial|^2 - |E_new|^2) / (2 k)`.
+    /// Dissipated by the slider this step: zero while the spring sticks; while it slips, the
+    /// work the step's load `L` took out of the relative motion, `-L . v dt`, less the
+    /// dashpot's term and the change of stored energy, so that dashpot + slider + the change
+    /// of elastic energy is that work. (Not the energy the clip released, `(|E_trial|^2 -
+    /// |E_new|^2) / (2 k)`: at steady slip that overstates the friction work by
+    /// `k |v dt|^2 / 2` per step, and where the limit is zero it reports dissipation the load
+    /// never did.) In a step without increment (a setup pass), the energy the clip released.
     pub slider: T,
 }
 
@@ -268,10 +275,24 @@ pub fn vector_spring<T: Real>(
     };
     let energy = if energy {
         let elastic = energy_of(norm_squared(&new_elastic), k);
+        let dashpot = select(damped, c.damping * norm_squared(rate) * dt, zero);
+        // The energy the clip released: zero to the bit where the spring sticks.
+        let released = energy_of(norm_squared(&elastic_trial), k) - elastic;
+        let slider = if increment && slipped.any() {
+            let elastic_before = match storage {
+                Storage::Displacement => spring * (-k),
+                Storage::Load => *spring,
+            };
+            let work = -dot(&load, rate) * dt;
+            let stored = elastic - energy_of(norm_squared(&elastic_before), k);
+            select(slipped, work - dashpot - stored, released)
+        } else {
+            released
+        };
         SpringEnergy {
             elastic,
-            dashpot: select(damped, c.damping * norm_squared(rate) * dt, zero),
-            slider: energy_of(norm_squared(&elastic_trial), k) - elastic,
+            dashpot,
+            slider,
         }
     } else {
         SpringEnergy::zero()
@@ -362,10 +383,20 @@ pub fn scalar_spring<T: Real>(
     let energy = if energy {
         let half_k = c.stiffness * lit(0.5);
         let elastic = half_k * new_spring * new_spring;
+        let dashpot = select(damped, c.damping * rate * rate * dt, zero);
+        // As in `vector_spring`.
+        let released = half_k * trial * trial - elastic;
+        let slider = if increment && slipped.any() {
+            let work = -load * rate * dt;
+            let stored = elastic - half_k * spring * spring;
+            select(slipped, work - dashpot - stored, released)
+        } else {
+            released
+        };
         SpringEnergy {
             elastic,
-            dashpot: select(damped, c.damping * rate * rate * dt, zero),
-            slider: half_k * trial * trial - elastic,
+            dashpot,
+            slider,
         }
     } else {
         SpringEnergy::zero()
