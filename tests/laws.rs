@@ -457,7 +457,13 @@ fn energy_balance_per_step_for_each_spring() {
             } else {
                 k_tw * (th + 0.5 * w * dt) * w * dt
             };
-            worst = worst.max(check(e_old_tw, &e.twisting, tw_work, tw_dashpot, "twisting"));
+            worst = worst.max(check(
+                e_old_tw,
+                &e.twisting,
+                tw_work,
+                tw_dashpot,
+                "twisting",
+            ));
             assert!(
                 e.transport.abs() <= 1e-12 * (e_old + e.sliding.elastic + 1e-300) + 1e-300
                     || e.transport.abs() < 1e-14,

@@ -20,7 +20,11 @@
 # 50 steps and every step (`thermo 1`: in.packing's thermo_style has `press`, so LAMMPS asks
 # for the virial every step, and the style then steps every contact through
 # rsl_batch_step_contacts_params, which gives each pair's force for the tally).
-# ROWS (environment): `laws` (the first table), `types` (the second) or `all` (default).
+# Energy (a third table): law A and law B, `granular/rollslide lammps`, without and with
+# `compute rollslide/energy` (in.packing's `energy 1`: the models track energy, the style
+# collects every contact's energy terms and tallies them per atom).
+# ROWS (environment): `laws` (the first table), `types` (the second), `energy` (the third) or
+# `all` (default: the first two).
 set -euo pipefail
 exe=$(realpath "$1")
 n=${2:-24}
@@ -39,10 +43,11 @@ echo "CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
 echo
 # Runs one row `reps` times: sets t (Pair time, s), ns (per contact) and contacts, medians.
 measure() {
-  local pair=$1 preset=$2 law=$3 types=$4 thermo=$5 times=() per=() one
+  local pair=$1 preset=$2 law=$3 types=$4 thermo=$5 energy=${6:-0} times=() per=() one
   for _ in $(seq "$reps"); do
     (cd "$tmp" && "$exe" -in "$input" -log log -screen none -var pair "$pair" -var preset "$preset" \
-       -var law "$law" -var n "$n" -var steps "$steps" -var thermo "$thermo" -var types "$types")
+       -var law "$law" -var n "$n" -var steps "$steps" -var thermo "$thermo" -var types "$types" \
+       -var energy "$energy")
     one=$(awk -F'|' '/^Pair /{gsub(/ /, "", $3); print $3}' "$tmp/log")
     contacts=$(awk -v atoms="$atoms" '/^Step /{on=1; next} /^Loop time/{on=0} on && NF >= 6 {s += $4; k++}
                 END {printf "%.0f", s / k * atoms / 2}' "$tmp/log")
@@ -84,6 +89,20 @@ if [ "$rows" = all ] || [ "$rows" = types ]; then
         ratio=$(awk -v a="$ns" -v b="$base" 'BEGIN {printf "%.2f", a / b}')
         echo "| A | $types | $thermo | $pair $preset | $t | $contacts | $ns | $ratio |"
       done
+    done
+  done
+fi
+
+if [ "$rows" = energy ]; then
+  echo "| law | compute rollslide/energy | Pair time (s) | contacts | ns per contact | / without |"
+  echo "|---|---|---:|---:|---:|---:|"
+  for law in A B; do
+    base=""
+    for energy in 0 1; do
+      measure granular/rollslide lammps "$law" 1 50 "$energy"
+      [ -z "$base" ] && base=$ns
+      ratio=$(awk -v a="$ns" -v b="$base" 'BEGIN {printf "%.2f", a / b}')
+      echo "| $law | $([ "$energy" = 1 ] && echo yes || echo no) | $t | $contacts | $ns | $ratio |"
     done
   done
 fi

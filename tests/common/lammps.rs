@@ -168,23 +168,28 @@ pub fn rundir(name: &str) -> PathBuf {
     d
 }
 
+/// The command that runs `exe` with `np` MPI ranks (`mpirun` beyond one), to which the caller
+/// adds LAMMPS' arguments.
+pub fn command(exe: &Path, np: usize) -> Command {
+    if np == 1 {
+        return Command::new(exe);
+    }
+    let mut c = Command::new("mpirun");
+    c.args([
+        "--allow-run-as-root",
+        "--oversubscribe",
+        "-np",
+        &np.to_string(),
+    ])
+    .arg(exe);
+    c
+}
+
 /// Runs `lmp_rollslide` (stock LAMMPS' styles included) on `input` (a file of
 /// examples/lammps/inputs) with `np` MPI ranks in `dir`; `vars` are `-var` pairs. Returns the log.
 pub fn lammps(exe: &Path, dir: &Path, np: usize, input: &str, vars: &[(&str, &str)]) -> String {
     let log = dir.join(format!("log.{}", vars_tag(vars)));
-    let mut cmd = if np == 1 {
-        Command::new(exe)
-    } else {
-        let mut c = Command::new("mpirun");
-        c.args([
-            "--allow-run-as-root",
-            "--oversubscribe",
-            "-np",
-            &np.to_string(),
-        ])
-        .arg(exe);
-        c
-    };
+    let mut cmd = command(exe, np);
     cmd.current_dir(dir)
         .arg("-in")
         .arg(inputs().join(input))
@@ -196,6 +201,33 @@ pub fn lammps(exe: &Path, dir: &Path, np: usize, input: &str, vars: &[(&str, &st
     }
     run(&mut cmd);
     std::fs::read_to_string(&log).unwrap()
+}
+
+/// Runs `lmp_rollslide` on `input` with `np` ranks in `dir` and `args` (`-var` pairs and the
+/// like), expecting a LAMMPS error: returns its `ERROR` line. Fails if there is none, or if the
+/// program ended by a signal (a crash) rather than with an exit status (error->all /
+/// MPI_Abort).
+pub fn lammps_error(exe: &Path, dir: &Path, np: usize, input: &str, args: &[&str]) -> String {
+    let out = command(exe, np)
+        .current_dir(dir)
+        .arg("-in")
+        .arg(inputs().join(input))
+        .args(["-log", "none"])
+        .args(args)
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let error = text
+        .lines()
+        .find(|l| l.starts_with("ERROR"))
+        .unwrap_or_else(|| panic!("no LAMMPS error for {args:?}:\n{text}"))
+        .to_string();
+    assert!(out.status.code().is_some(), "crashed: {:?}", out.status);
+    error
 }
 
 fn vars_tag(vars: &[(&str, &str)]) -> String {

@@ -122,10 +122,10 @@ pub fn run(cmd: &mut std::process::Command) -> String {
 }
 
 /// `-DROLLSLIDE_CARGO_TARGET_DIR=...` for a test that configures the repository's CMake build:
-/// the tests that do (`cmake_package`, `lammps_pair`) share one cargo target directory, so the
-/// release library they both build (the same `cargo rustc` command) is compiled once per
-/// change, not once per test (each build of the 576 batch kernels takes minutes). `cargo test`
-/// runs the test binaries one after another, and cargo's own lock orders any overlap.
+/// the tests that do (`cmake_package` and the `lammps_*` tests) share one cargo target
+/// directory, so the release library they all build (the same `cargo rustc` command) is
+/// compiled once per change, not once per test (about a minute each). `cargo test` runs the
+/// test binaries one after another, and cargo's own lock orders any overlap.
 pub fn shared_cmake_cargo_dir() -> String {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cmake-cargo");
     format!("-DROLLSLIDE_CARGO_TARGET_DIR={}", dir.display())

@@ -12,6 +12,12 @@
 // ghost atom is stored on the owned atom only, because the pair style's newton off list makes
 // the ghost's own rank compute (and store) the same contact from its side. post_neighbor moves
 // them back, looking each neighbour's ID up in the list atom's partners.
+//
+// With energy tracking (a compute needs the contacts' energy: PairGranularRollslide::
+// tracks_energy) each entry also has the elastic energy of its contact's springs after its
+// last step (`elastic`), which goes with the state (the same from either side: energies do not
+// change when the bodies swap) into `partner_elastic`, the exchange and restart files; without
+// it, the records are those of before (restart files of either kind are read).
 #include "fix_rollslide_history.h"
 
 #include "pair_granular_rollslide.h"
@@ -23,6 +29,7 @@
 #include "neigh_list.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -96,7 +103,11 @@ void FixRollslideHistory::to_atoms()
   const int nlocal = atom->nlocal;
   tagint *tag = atom->tag;
   int *type = atom->type;
-  for (int i = 0; i < nlocal; i++) partners[i].clear();
+  const bool energy = !state.empty() && elastic.size() == 3 * state.size();
+  for (int i = 0; i < nlocal; i++) {
+    partners[i].clear();
+    partner_elastic[i].clear();
+  }
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     const int *jlist = list->firstneigh[i];
@@ -106,11 +117,17 @@ void FixRollslideHistory::to_atoms()
       if (!touch[e]) continue;
       const int j = jlist[jj] & NEIGHMASK;
       partners[i].push_back({tag[j], state[e]});
+      std::array<double, 3> energies{};
+      if (energy) {
+        energies = {elastic[3 * e], elastic[3 * e + 1], elastic[3 * e + 2]};
+        partner_elastic[i].push_back(energies);
+      }
       if (j < nlocal) {
         Partner mirrored{tag[i], state[e]};
         int32_t st = rsl_contact_state_swap(pair->model(type[j], type[i]), &mirrored.state);
         if (st != RSL_OK) pair->library_error("rsl_contact_state_swap", st, tag[j], tag[i]);
         partners[j].push_back(mirrored);
+        if (energy) partner_elastic[j].push_back(energies);
       }
     }
   }
@@ -136,17 +153,23 @@ void FixRollslideHistory::build_entries()
   rsl_contact_state fresh;
   memset(&fresh, 0, sizeof fresh);
   std::fill(state.begin(), state.end(), fresh);
+  const bool energy = pair->tracks_energy();
+  elastic.assign(energy ? 3 * total : 0, 0.0);
   for (int ii = 0; ii < inum; ii++) {
     const int i = list->ilist[ii];
     const std::vector<Partner> &mine = partners[i];
     if (mine.empty()) continue;
+    const bool energies = energy && partner_elastic[i].size() == mine.size();
     const int *jlist = list->firstneigh[i];
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const tagint want = tag[jlist[jj] & NEIGHMASK];
-      for (const Partner &p : mine)
-        if (p.tag == want) {
-          state[first[ii] + jj] = p.state;
-          touch[first[ii] + jj] = 1;
+      for (size_t k = 0; k < mine.size(); k++)
+        if (mine[k].tag == want) {
+          const bigint e = first[ii] + jj;
+          state[e] = mine[k].state;
+          touch[e] = 1;
+          if (energies)
+            for (int c = 0; c < 3; c++) elastic[3 * e + c] = partner_elastic[i][k][c];
           break;
         }
     }
@@ -159,7 +182,7 @@ void FixRollslideHistory::update_maxexchange()
   size_t most = 0;
   for (int i = 0; i < atom->nlocal; i++)
     if (partners[i].size() > most) most = partners[i].size();
-  maxexchange = 1 + PARTNER_DOUBLES * static_cast<int>(most);
+  maxexchange = 2 + (PARTNER_DOUBLES + ENERGY_DOUBLES) * static_cast<int>(most);
 }
 
 void FixRollslideHistory::pre_exchange()
@@ -199,6 +222,9 @@ double FixRollslideHistory::memory_usage()
 {
   double bytes = (double) partners.capacity() * sizeof(std::vector<Partner>);
   for (const auto &p : partners) bytes += (double) p.capacity() * sizeof(Partner);
+  bytes += (double) partner_elastic.capacity() * sizeof(partner_elastic[0]) +
+      (double) elastic.capacity() * sizeof(double);
+  for (const auto &p : partner_elastic) bytes += (double) p.capacity() * sizeof(p[0]);
   bytes += (double) state.capacity() * sizeof(rsl_contact_state) + touch.capacity() +
       (double) first.capacity() * sizeof(bigint);
   return bytes;
@@ -206,55 +232,79 @@ double FixRollslideHistory::memory_usage()
 
 void FixRollslideHistory::grow_arrays(int nmax)
 {
-  if ((int) partners.size() < nmax) partners.resize(nmax);
+  if ((int) partners.size() < nmax) {
+    partners.resize(nmax);
+    partner_elastic.resize(nmax);
+  }
 }
 
 void FixRollslideHistory::copy_arrays(int i, int j, int)
 {
   partners[j] = partners[i];
+  partner_elastic[j] = partner_elastic[i];
 }
 
 void FixRollslideHistory::set_arrays(int i)
 {
   partners[i].clear();
+  partner_elastic[i].clear();
+}
+
+// Atom i's partners as records of record_doubles(i) doubles (pack_partner's, then the 3
+// energies if it has them); returns the doubles written.
+int FixRollslideHistory::pack_partners(int i, double *buf) const
+{
+  const bool energies = !partner_elastic[i].empty();
+  int m = 0;
+  for (size_t k = 0; k < partners[i].size(); k++) {
+    pack_partner(partners[i][k], &buf[m]);
+    m += PARTNER_DOUBLES;
+    if (energies)
+      for (int c = 0; c < ENERGY_DOUBLES; c++) buf[m++] = partner_elastic[i][k][c];
+  }
+  return m;
+}
+
+// Reads n records of `per` doubles (PARTNER_DOUBLES, or with the energies) into atom i's lists;
+// returns the doubles read.
+int FixRollslideHistory::unpack_partners(int i, const double *buf, int n, int per)
+{
+  partners[i].resize(n);
+  partner_elastic[i].clear();
+  const bool energies = per == PARTNER_DOUBLES + ENERGY_DOUBLES;
+  if (energies) partner_elastic[i].resize(n);
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    unpack_partner(&buf[m], partners[i][k]);
+    if (energies)
+      for (int c = 0; c < ENERGY_DOUBLES; c++) partner_elastic[i][k][c] = buf[m + PARTNER_DOUBLES + c];
+    m += per;
+  }
+  // This rank may send the atom on before its next pre_exchange: Comm sizes its buffers from
+  // maxexchange, which must cover every owned atom's list.
+  if (2 + per * n > maxexchange) maxexchange = 2 + per * n;
+  return m;
 }
 
 int FixRollslideHistory::pack_exchange(int i, double *buf)
 {
-  int m = 0;
-  buf[m++] = (double) partners[i].size();
-  for (const Partner &p : partners[i]) {
-    pack_partner(p, &buf[m]);
-    m += PARTNER_DOUBLES;
-  }
-  return m;
+  buf[0] = (double) partners[i].size();
+  buf[1] = (double) record_doubles(i);
+  return 2 + pack_partners(i, &buf[2]);
 }
 
 int FixRollslideHistory::unpack_exchange(int nlocal, double *buf)
 {
   grow_arrays(nlocal + 1);
-  int m = 0;
-  const int n = (int) buf[m++];
-  partners[nlocal].resize(n);
-  for (int k = 0; k < n; k++) {
-    unpack_partner(&buf[m], partners[nlocal][k]);
-    m += PARTNER_DOUBLES;
-  }
-  // This rank may send the atom on before its next pre_exchange: Comm sizes its buffers from
-  // maxexchange, which must cover every owned atom's list.
-  if (1 + PARTNER_DOUBLES * n > maxexchange) maxexchange = 1 + PARTNER_DOUBLES * n;
-  return m;
+  return 2 + unpack_partners(nlocal, &buf[2], (int) buf[0], (int) buf[1]);
 }
 
 int FixRollslideHistory::pack_restart(int i, double *buf)
 {
-  // buf[0] is the length of this fix's values, read by Atom to skip them.
-  int m = 1;
-  buf[m++] = (double) partners[i].size();
-  for (const Partner &p : partners[i]) {
-    pack_partner(p, &buf[m]);
-    m += PARTNER_DOUBLES;
-  }
+  // buf[0] is the length of this fix's values, read by Atom to skip them (and here to tell
+  // the records with energies from those without).
+  buf[1] = (double) partners[i].size();
+  const int m = 2 + pack_partners(i, &buf[2]);
   buf[0] = m;
   return m;
 }
@@ -265,28 +315,26 @@ void FixRollslideHistory::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
-  m++;
-  const int n = static_cast<int>(extra[nlocal][m++]);
-  partners[nlocal].resize(n);
-  for (int k = 0; k < n; k++) {
-    unpack_partner(&extra[nlocal][m], partners[nlocal][k]);
-    m += PARTNER_DOUBLES;
-  }
-  if (1 + PARTNER_DOUBLES * n > maxexchange) maxexchange = 1 + PARTNER_DOUBLES * n;
+  const int length = static_cast<int>(extra[nlocal][m]);
+  const int n = static_cast<int>(extra[nlocal][m + 1]);
+  const int per = n > 0 ? (length - 2) / n : PARTNER_DOUBLES;
+  if (n > 0 && (length - 2 != per * n || (per != PARTNER_DOUBLES && per != PARTNER_DOUBLES + ENERGY_DOUBLES)))
+    error->one(FLERR, std::string("fix rollslide/history: unknown restart record (") +
+                          std::to_string(length) + " values for " + std::to_string(n) + " contacts)");
+  unpack_partners(nlocal, &extra[nlocal][m + 2], n, per);
   live = false;
 }
 
 int FixRollslideHistory::size_restart(int nlocal)
 {
-  return 2 + PARTNER_DOUBLES * (int) partners[nlocal].size();
+  return 2 + record_doubles(nlocal) * (int) partners[nlocal].size();
 }
 
 int FixRollslideHistory::maxsize_restart()
 {
-  int most = 0;
-  for (int i = 0; i < atom->nlocal; i++)
-    if ((int) partners[i].size() > most) most = (int) partners[i].size();
+  int most = 2;
+  for (int i = 0; i < atom->nlocal; i++) most = std::max(most, size_restart(i));
   int all = 0;
   MPI_Allreduce(&most, &all, 1, MPI_INT, MPI_MAX, world);
-  return 2 + PARTNER_DOUBLES * all;
+  return all;
 }

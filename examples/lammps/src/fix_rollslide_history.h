@@ -8,6 +8,7 @@
 #include "fix.h"
 #include "rollslide.h"
 
+#include <array>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -46,6 +47,11 @@ class FixRollslideHistory : public Fix {
   std::vector<bigint> first;
   std::vector<unsigned char> touch;
   std::vector<rsl_contact_state> state;
+  // Per entry, only while the pair style tracks energy (else empty): the elastic energy of the
+  // contact's sliding, rolling and twisting springs after its last step, 3 per entry. The pair
+  // style counts it as dissipated by the sliders when the contact ends and its history is
+  // dropped; it moves with the history (per atom, exchange, restart files) for that.
+  std::vector<double> elastic;
   // Makes the per-entry arrays current (from the per-atom lists if they are the current copy).
   void ensure_entries()
   {
@@ -60,11 +66,22 @@ class FixRollslideHistory : public Fix {
     rsl_contact_state state;    // this atom as body 1, the partner as body 2
   };
   // Packed as doubles: the tag, the 13 doubles of the state, its slip flags as a number (the
-  // integer fields are converted, never sent as raw bits).
+  // integer fields are converted, never sent as raw bits); with energies, their 3 after them.
   static constexpr int PARTNER_DOUBLES = 15;
+  static constexpr int ENERGY_DOUBLES = 3;
   static void pack_partner(const Partner &, double *);
   static void unpack_partner(const double *, Partner &);
   std::vector<std::vector<Partner>> partners;    // per local atom, valid while !live
+  // Per local atom: empty, or the 3 energies of `elastic` for each of its partners (same order),
+  // written when the entries had them (energy tracking).
+  std::vector<std::vector<std::array<double, 3>>> partner_elastic;
+  // The doubles per partner of atom i's packed records.
+  int record_doubles(int i) const
+  {
+    return partner_elastic[i].empty() ? PARTNER_DOUBLES : PARTNER_DOUBLES + ENERGY_DOUBLES;
+  }
+  int pack_partners(int i, double *buf) const;
+  int unpack_partners(int i, const double *buf, int n, int per);
   bool live = false;    // the per-entry arrays (true) or the per-atom lists (false) hold the history
 
   void to_atoms();

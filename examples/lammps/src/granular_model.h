@@ -62,6 +62,7 @@ rsl_model *new_model(int32_t preset, const Coeffs &c, bool track_energy, std::st
 // per-contact sliding coefficients that go with it.
 struct NormalForce {
   double force;              // total normal force (compressive positive), dashpot included
+  double elastic_force;      // the normal spring's part of `force`
   double damping_force;      // the dashpot's part of `force` before limit_damping: -eta vn
   double elastic;            // energy of the normal spring at this overlap
   double sliding_stiffness;  // k_t (mindlin: k_t a)
@@ -92,6 +93,7 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
   const double damp_normal_prefactor = c.damp * damp_normal;
   NormalForce out;
   out.damping_force = -damp_normal_prefactor * vn;
+  out.elastic_force = Fne;
   out.force = Fne + out.damping_force;
   if (c.limit_damping && out.force < 0.0) out.force = 0.0;
   // Hooke: F = k delta, energy k delta^2 / 2; Hertz: F = k sqrt(R) delta^(3/2), energy
@@ -106,6 +108,18 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
   out.sliding_damping = c.xgammat * damp_normal_prefactor;
   out.sliding_stiffness = out.per_contact_stiffness ? c.kt * a : c.kt;
   return out;
+}
+
+// The energy the normal dashpot dissipated in a step of length dt, for the normal force `nf`
+// computed at normal velocity vn (as passed to normal_force): the dashpot force actually
+// applied, `force - elastic_force`, times the rate at which the overlap shrinks, -vn, times dt.
+// Without limit_damping's clip that is eta vn^2 dt; when the clip holds the total force at
+// zero (separating contacts, vn > 0), the applied dashpot force is -elastic_force and the
+// dissipation elastic_force vn dt (the energy the spring releases while the clipped force does
+// no work). Never negative.
+inline double normal_dissipation(const NormalForce &nf, double vn, double dt)
+{
+  return -(nf.force - nf.elastic_force) * vn * dt;
 }
 
 }    // namespace granular

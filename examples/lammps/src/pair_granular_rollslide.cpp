@@ -7,8 +7,27 @@
 // its own atom), whatever `newton_pair` says, so that no contact history has to be sent back
 // to a ghost atom's owner: each rank keeps the history of its own atoms' contacts, in its
 // atom's perspective (rsl_contact_state_swap gives the partner's).
+//
+// Energy. When a compute rollslide/energy is defined (or a compute pair/local, which calls
+// single()), init_style builds the library models with energy tracking and every contact pass
+// collects, per stepped contact, the library's energy terms (params.energy of both batch calls,
+// out.energy of the setup pass's rsl_contact_step), the normal dashpot's dissipation
+// (granular::normal_dissipation: the dashpot force actually applied, limit_damping's clip
+// included, times the normal displacement rate of the step, times dt) and the normal spring's
+// energy. Each contact is tallied half to atom i and half to atom j if j is local: a ghost j's
+// owner computes the same contact from its side (the list is newton off), and tallies its half
+// there. A contact found ended (its history about to be dropped) is tallied once more: the
+// energy its springs held after its last step (kept per entry by the history fix, which moves
+// it with the history) is dissipated by its sliders. A run's setup pass is no time step: its
+// dashpot terms are left out (nothing moves over it); the `lammps` preset's setup pass writes
+// the history (LAMMPS' clip rules do), so its slider and transport terms (a spring clipped or
+// transported by the pass) are kept, while the objective preset's writes nothing, so nothing
+// is dissipated and the springs' elastic energy is what they keep (the energy after the clip
+// plus the clip's). Without either compute none of this runs: the models compute no energy and
+// the contact loop is its instantiation without it.
 #include "pair_granular_rollslide.h"
 
+#include "compute_rollslide_energy.h"
 #include "fix_rollslide_history.h"
 #include "granular_model.h"
 
@@ -52,7 +71,12 @@ void fill_sphere(rsl_sphere &s, const double *x, const double *v, const double *
 
 PairGranularRollslide::PairGranularRollslide(LAMMPS *lmp) : Pair(lmp)
 {
-  single_enable = 0;
+  // single(): the normal force over r, and in svector each contact's dissipation rates of its
+  // last pass (energy/time): normal damping, sliding dashpot, sliding friction, rolling dashpot,
+  // rolling friction, twisting dashpot, twisting friction.
+  single_enable = 1;
+  single_extra = NRATES;
+  svector = new double[single_extra];
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
   no_virial_fdotr_compute = 1;    // the list is newton off: tallied per pair
   finitecutflag = 1;
@@ -68,6 +92,7 @@ PairGranularRollslide::PairGranularRollslide(LAMMPS *lmp) : Pair(lmp)
 PairGranularRollslide::~PairGranularRollslide()
 {
   free_models();
+  delete[] svector;
   if (modify->find_fix(FixRollslideHistory::ID) >= 0) modify->delete_fix(FixRollslideHistory::ID);
   if (allocated) {
     memory->destroy(setflag);
@@ -194,6 +219,24 @@ void PairGranularRollslide::init_style()
         at(i, j) = at(j, i) = at(i, i);
       }
 
+  // Energy: the first compute rollslide/energy receives the contacts; a compute pair/local
+  // reads single(), whose dissipation rates need the energy terms too.
+  energy = nullptr;
+  per_contact = false;
+  for (int i = 0; i < modify->ncompute; i++) {
+    if (energy == nullptr && strcmp(modify->compute[i]->style, ComputeRollslideEnergy::STYLE) == 0)
+      energy = static_cast<ComputeRollslideEnergy *>(modify->compute[i]);
+    if (strcmp(modify->compute[i]->style, "pair/local") == 0) per_contact = true;
+  }
+  track = energy != nullptr || per_contact;
+  if (!per_contact) {
+    contact_rates.clear();
+    contact_rates.shrink_to_fit();
+    rates_pass.clear();
+    rates_pass.shrink_to_fit();
+    list_index.clear();
+  }
+
   // One library model per type pair, and the groups of the batch calls (see Group).
   free_models();
   for (int i = 1; i <= ntypes; i++)
@@ -203,15 +246,15 @@ void PairGranularRollslide::init_style()
     }
   build_groups();
 
-  direct.resize(true);
-  paired.resize(false);
+  direct.resize(true, track);
+  paired.resize(false, track);
 }
 
 // A library model of coefficients `c` (those of type pair i j, named in the error).
 rsl_model *PairGranularRollslide::new_model(const Coeffs &c, int i, int j)
 {
   std::string message;
-  rsl_model *m = granular::new_model(preset, c, false, message);
+  rsl_model *m = granular::new_model(preset, c, track, message);
   if (m == nullptr)
     fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) +
          ": the library refused the coefficients: " + message);
@@ -298,7 +341,7 @@ void PairGranularRollslide::apply(int i, int j, const double del[3], const rsl_v
   if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, force1.x, force1.y, force1.z, del[0], del[1], del[2]);
 }
 
-void PairGranularRollslide::Chunk::resize(bool is_direct)
+void PairGranularRollslide::Chunk::resize(bool is_direct, bool with_energy)
 {
   pending.resize(CHUNK);
   pairs.resize(is_direct ? 2 * CHUNK : 0);
@@ -311,6 +354,9 @@ void PairGranularRollslide::Chunk::resize(bool is_direct)
   index.resize(is_direct ? CHUNK : 0);
   state.resize(is_direct ? 0 : CHUNK);
   loads.resize(is_direct ? 0 : CHUNK);
+  energy.resize(with_energy ? CHUNK : 0);
+  normal_dissipated.resize(with_energy ? CHUNK : 0);
+  normal_elastic.resize(with_energy ? CHUNK : 0);
 }
 
 // Steps the direct chunk in one rsl_batch_step_indexed call (with the chunk's per-contact k_t and
@@ -333,6 +379,7 @@ void PairGranularRollslide::flush_direct()
                                       history->state.data(), history->state.size(),
                                       ch.index.data(), f, t, &report);
   if (st != RSL_OK) chunk_error("rsl_batch_step_indexed", st, report, ch);
+  if (track) tally_chunk(ch);
   ch.n = 0;
 }
 
@@ -360,6 +407,7 @@ rsl_batch_contact_params PairGranularRollslide::chunk_params(Chunk &ch) const
   params.sliding_stiffness = g.kt ? ch.sliding_stiffness.data() : nullptr;
   params.sliding_damping = g.gammat ? ch.sliding_damping.data() : nullptr;
   params.material = g.owned ? ch.material.data() : nullptr;
+  params.energy = track ? ch.energy.data() : nullptr;
   return params;
 }
 
@@ -383,6 +431,7 @@ void PairGranularRollslide::flush_paired()
     states[p.e] = ch.state[k];
     apply(p.i, p.j, p.del, ch.loads[k].force1, ch.loads[k].torque1, ch.loads[k].torque2);
   }
+  if (track) tally_chunk(ch);
   ch.n = 0;
 }
 
@@ -392,7 +441,27 @@ void PairGranularRollslide::compute(int eflag, int vflag)
   history->ensure_entries();
   dt = update->dt;
   const bool setup = update->setupflag != 0;
+  if (!track) {
+    compute_contacts<false>(setup);
+    return;
+  }
+  if (energy) energy->begin_step();
+  if (per_contact) {
+    // single() finds a pair's entry through its atom's place in the list.
+    if (contact_rates.size() < NRATES * history->state.size()) {
+      contact_rates.resize(NRATES * history->state.size());
+      rates_pass.resize(history->state.size(), 0);
+    }
+    pass++;
+    list_index.assign(atom->nlocal, -1);
+    for (int ii = 0; ii < list->inum; ii++) list_index[list->ilist[ii]] = ii;
+  }
+  compute_contacts<true>(setup);
+}
 
+// The contact pass; ENERGY: with the energy terms (track).
+template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
+{
   double **x = atom->x;
   double **v = atom->v;
   double **omega = atom->omega;
@@ -439,6 +508,7 @@ void PairGranularRollslide::compute(int eflag, int vflag)
       if (rsq >= radsum * radsum) {
         // Not touching: the contact (if any) ends and its history is dropped, as LAMMPS does.
         if (touch[e]) {
+          if (ENERGY) release(i, j, e);
           touch[e] = 0;
           rsl_contact_state_init(&states[e]);
         }
@@ -496,6 +566,10 @@ void PairGranularRollslide::compute(int eflag, int vflag)
           ch.sliding_stiffness[k] = kt;
           ch.sliding_damping[k] = gammat;
           ch.material[k] = slot.material;
+          if (ENERGY) {
+            ch.normal_dissipated[k] = granular::normal_dissipation(nf, vnnr, dt);
+            ch.normal_elastic[k] = nf.elastic;
+          }
           return k;
         };
         if (use_direct && j < nlocal) {
@@ -535,9 +609,120 @@ void PairGranularRollslide::compute(int eflag, int vflag)
       if (st != RSL_OK) library_error("rsl_contact_step", st, tag[i], tag[j]);
       const double del[3] = {delx, dely, delz};
       apply(i, j, del, out.force1, out.torque1, out.torque2);
+      if (ENERGY) {
+        // No time passes in the setup pass: no dashpot dissipates (see "Energy" above).
+        rsl_contact_energy en = out.energy;
+        en.dashpot_sliding = en.dashpot_rolling = en.dashpot_twisting = 0.0;
+        if (preset != RSL_PRESET_LAMMPS_2021) {
+          // The objective preset's setup pass writes no state: the springs keep what they held
+          // (the clip's energy, E_trial - E_new, stays in them), nothing is dissipated.
+          en.elastic_sliding += en.slider_sliding;
+          en.elastic_rolling += en.slider_rolling;
+          en.elastic_twisting += en.slider_twisting;
+          en.slider_sliding = en.slider_rolling = en.slider_twisting = en.transport = 0.0;
+        }
+        tally(i, j, e, en, 0.0, nf.elastic);
+      }
     }
   }
   flush();
+}
+
+// One stepped contact's energy: half to each local atom (the compute), and its dissipation
+// rates into its entry (single()).
+void PairGranularRollslide::tally(int i, int j, bigint e, const rsl_contact_energy &en,
+                                  double normal_dissipated, double normal_elastic)
+{
+  // Half to i, half to j if local: a ghost j's owner tallies its half itself (it computes the
+  // contact too: newton off list).
+  if (energy) energy->tally_pair(i, j, atom->nlocal, en, normal_dissipated, normal_elastic);
+  double *el = &history->elastic[3 * e];
+  el[0] = en.elastic_sliding;
+  el[1] = en.elastic_rolling;
+  el[2] = en.elastic_twisting;
+  if (per_contact) {
+    rates_pass[e] = pass;
+    double *r = &contact_rates[NRATES * e];
+    r[0] = normal_dissipated / dt;
+    r[1] = en.dashpot_sliding / dt;
+    r[2] = en.slider_sliding / dt;
+    r[3] = en.dashpot_rolling / dt;
+    r[4] = en.slider_rolling / dt;
+    r[5] = en.dashpot_twisting / dt;
+    r[6] = en.slider_twisting / dt;
+  }
+}
+
+// A contact that ended (its history is about to be dropped): the energy its springs held after
+// its last step is dissipated by its sliders (with no contact, every friction limit is zero).
+void PairGranularRollslide::release(int i, int j, bigint e)
+{
+  const double *el = &history->elastic[3 * e];
+  rsl_contact_energy en;
+  memset(&en, 0, sizeof en);
+  en.slider_sliding = el[0];
+  en.slider_rolling = el[1];
+  en.slider_twisting = el[2];
+  tally(i, j, e, en, 0.0, 0.0);
+}
+
+void PairGranularRollslide::tally_chunk(const Chunk &ch)
+{
+  for (int k = 0; k < ch.n; k++) {
+    const Pending &p = ch.pending[k];
+    tally(p.i, p.j, p.e, ch.energy[k], ch.normal_dissipated[k], ch.normal_elastic[k]);
+  }
+}
+
+// The history entry of the contact of local atom i and atom j (i's list, or j's if j is local),
+// or -1.
+bigint PairGranularRollslide::find_entry(int i, int j) const
+{
+  for (int side = 0; side < 2; side++) {
+    const int a = side == 0 ? i : j, b = side == 0 ? j : i;
+    if (a >= (int) list_index.size() || list_index[a] < 0) continue;
+    const int ii = list_index[a];
+    const int *jlist = list->firstneigh[a];
+    for (int jj = 0; jj < list->numneigh[a]; jj++)
+      if ((jlist[jj] & NEIGHMASK) == b) return history->first[ii] + jj;
+  }
+  return -1;
+}
+
+// For compute pair/local: the normal force over r (fforce, as pair granular's single gives it;
+// 0 for pairs not touching), the energy 0, and in svector the contact's dissipation rates in
+// the last contact pass (energy/time; zero for pairs not stepped or released in that pass, and
+// without a compute pair/local at the run's init).
+double PairGranularRollslide::single(int i, int j, int itype, int jtype, double rsq, double,
+                                     double, double &fforce)
+{
+  for (int m = 0; m < single_extra; m++) svector[m] = 0.0;
+  fforce = 0.0;
+  if (per_contact) {
+    const bigint e = find_entry(i, j);
+    if (e >= 0 && (size_t) e < rates_pass.size() && rates_pass[e] == pass)
+      for (int m = 0; m < NRATES; m++) svector[m] = contact_rates[NRATES * e + m];
+  }
+  double *radius = atom->radius;
+  const double radsum = radius[i] + radius[j];
+  if (rsq >= radsum * radsum) return 0.0;
+
+  double **x = atom->x;
+  double **v = atom->v;
+  double *rmass = atom->rmass;
+  int *mask = atom->mask;
+  const double r = sqrt(rsq);
+  const double rinv = 1.0 / r;
+  const double nx = (x[i][0] - x[j][0]) * rinv, ny = (x[i][1] - x[j][1]) * rinv,
+               nz = (x[i][2] - x[j][2]) * rinv;
+  const double vnnr = (v[i][0] - v[j][0]) * nx + (v[i][1] - v[j][1]) * ny + (v[i][2] - v[j][2]) * nz;
+  double meff = rmass[i] * rmass[j] / (rmass[i] + rmass[j]);
+  if (mask[i] & freeze_group_bit) meff = rmass[j];
+  if (mask[j] & freeze_group_bit) meff = rmass[i];
+  const double Reff = radius[i] * radius[j] / radsum;
+  const granular::NormalForce nf = granular::normal_force(at(itype, jtype), radsum - r, Reff, meff, vnnr);
+  fforce = nf.force * rinv;
+  return 0.0;
 }
 
 double PairGranularRollslide::memory_usage()
@@ -546,5 +731,9 @@ double PairGranularRollslide::memory_usage()
   return (double) CHUNK * (2 * common + 2 * sizeof(uint32_t) + sizeof(size_t) +
                            sizeof(rsl_contact_state) + 2 * sizeof(rsl_sphere) +
                            sizeof(rsl_batch_loads)) +
-      (double) spheres.capacity() * sizeof(rsl_sphere);
+      (double) spheres.capacity() * sizeof(rsl_sphere) +
+      (double) (direct.energy.capacity() + paired.energy.capacity()) *
+          (sizeof(rsl_contact_energy) + 2 * sizeof(double)) +
+      (double) contact_rates.capacity() * sizeof(double) +
+      (double) rates_pass.capacity() * sizeof(unsigned) + (double) list_index.capacity() * sizeof(int);
 }

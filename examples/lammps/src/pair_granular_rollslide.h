@@ -18,6 +18,7 @@
 
 namespace LAMMPS_NS {
 
+class ComputeRollslideEnergy;
 class FixRollslideHistory;
 
 class PairGranularRollslide : public Pair {
@@ -29,6 +30,7 @@ class PairGranularRollslide : public Pair {
   void coeff(int, char **) override;
   void init_style() override;
   double init_one(int, int) override;
+  double single(int, int, int, int, double, double, double, double &) override;
   double memory_usage() override;
 
   // The model of a type pair (the swap of a state and the per-contact setup pass need it).
@@ -36,6 +38,8 @@ class PairGranularRollslide : public Pair {
   // A LAMMPS error naming the pair's atom IDs and the library's message; never returns.
   [[noreturn]] void library_error(const char *call, int32_t status, tagint id1, tagint id2);
   [[noreturn]] void fail(const std::string &message);
+  // Whether the contact passes collect energy (a compute rollslide/energy or pair/local exists).
+  bool tracks_energy() const { return track; }
 
   using Coeffs = granular::Coeffs;
 
@@ -74,6 +78,19 @@ class PairGranularRollslide : public Pair {
   int freeze_group_bit = 0;
   double dt = 0.0;
 
+  // Energy (see the .cpp's "Energy" comment). `energy`: the compute rollslide/energy that
+  // receives every stepped contact's energy, if one is defined; `per_contact`: a compute
+  // pair/local is defined, and each contact's dissipation rates of its last pass are kept for
+  // single(); `track`: either, the models track energy and the passes collect it.
+  ComputeRollslideEnergy *energy = nullptr;
+  bool per_contact = false;
+  bool track = false;
+  static constexpr int NRATES = 7;      // single()'s values, per neighbour-list entry
+  std::vector<double> contact_rates;    // NRATES per entry of the history (per_contact)
+  std::vector<unsigned> rates_pass;     // per entry: the pass that wrote its rates (per_contact)
+  unsigned pass = 0;                    // contact passes so far (per_contact)
+  std::vector<int> list_index;          // per local atom: its ii in the list, or -1 (per_contact)
+
   // Contacts are stepped in chunks of up to CHUNK, one library call per chunk, one group's
   // model (hence one law set) per chunk. Two kinds of chunk are filled side by side:
   // - `direct`: contacts between two local atoms, stepped by rsl_batch_step_params
@@ -105,7 +122,11 @@ class PairGranularRollslide : public Pair {
     std::vector<size_t> index;              // direct: each contact's entry in the history
     std::vector<rsl_contact_state> state;   // paired: the histories, copied in and out
     std::vector<rsl_batch_loads> loads;     // paired only
-    void resize(bool direct);
+    // With energy tracking: the library's energy terms, the normal dashpot's dissipation and the
+    // normal spring's energy, per contact.
+    std::vector<rsl_contact_energy> energy;
+    std::vector<double> normal_dissipated, normal_elastic;
+    void resize(bool direct, bool energy);
   };
   Chunk direct, paired;
   std::vector<rsl_sphere> spheres;          // per local and ghost atom, this step
@@ -120,6 +141,12 @@ class PairGranularRollslide : public Pair {
   void load_states(Chunk &ch);
   [[noreturn]] void chunk_error(const char *call, int32_t status, const rsl_batch_report &report,
                                 const Chunk &ch);
+  template <bool ENERGY> void compute_contacts(bool setup);
+  void tally(int i, int j, bigint e, const rsl_contact_energy &en, double normal_dissipated,
+             double normal_elastic);
+  void tally_chunk(const Chunk &ch);
+  void release(int i, int j, bigint e);
+  bigint find_entry(int i, int j) const;
   void flush_direct();
   void flush_paired();
   void flush()

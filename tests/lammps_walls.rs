@@ -1,0 +1,531 @@
+//! `fix wall/gran/rollslide` inside LAMMPS: flat walls (`xplane`, `yplane`, `zplane`) and a
+//! `zcylinder` whose sliding, rolling and twisting come from rollslide
+//! (`rsl_contact_step_wall`), with the normal force of stock `fix wall/gran granular`.
+//!
+//! Scene: `examples/lammps/inputs/in.wall_gran`, spheres on walls and no pair style (the spheres
+//! touch the walls only, so each atom's loads are its wall contact's and the body force's):
+//! `zplane` (36 spheres on a floor under gravity), `zpair` (the floor and a ceiling at z = 12
+//! with 12 more spheres pressed against it), `zcylinder` (48 spheres pressed against the inside
+//! of a cylinder of radius 5, circling along it), with random velocities and spins (rolling,
+//! sliding, bouncing), the walls still, wiggling along their normal or along the wall, or
+//! sheared (a zcylinder `shear x` turns about its axis). Loads are compared atom by atom from
+//! `dump custom` files written with 17 digits. Measured values are printed with
+//! `cargo test --test lammps_walls -- --nocapture`.
+//!
+//! Reported as ignored, with the reason, when LAMMPS, MPI, cmake or LAMMPS' source tarball is
+//! missing (tests/common/lammps.rs).
+
+mod common;
+
+use common::lammps::{compare, lammps, lammps_error, read_dump, rundir, thermo, trial, Dump};
+use std::path::Path;
+
+fn main() {
+    common::lammps::run_trials(vec![
+        trial(
+            "flat_walls_match_stock_fix_wall_gran",
+            flat_walls_match_stock_fix_wall_gran,
+        ),
+        trial(
+            "zcylinder_lammps_preset_matches_stock",
+            zcylinder_lammps_preset_matches_stock,
+        ),
+        trial(
+            "ranks_newton_and_sorting_carry_the_wall_histories",
+            ranks_newton_and_sorting_carry_the_wall_histories,
+        ),
+        trial(
+            "restart_continues_the_wall_run",
+            restart_continues_the_wall_run,
+        ),
+        trial(
+            "wall_contacts_are_tallied_in_the_energy_budget",
+            wall_contacts_are_tallied_in_the_energy_budget,
+        ),
+        trial(
+            "bad_wall_arguments_are_lammps_errors",
+            bad_wall_arguments_are_lammps_errors,
+        ),
+    ]);
+}
+
+/// One run of in.wall_gran with `np` ranks and the given variables, its dump read back.
+fn run(exe: &Path, dir: &Path, np: usize, dump: &str, vars: &[(&str, &str)]) -> Dump {
+    let mut all: Vec<(&str, &str)> = vars.to_vec();
+    all.push(("dump", dump));
+    lammps(exe, dir, np, "in.wall_gran", &all);
+    read_dump(&dir.join(dump))
+}
+
+/// Runs in.wall_gran with `vars` twice, with stock `fix wall/gran` and with
+/// `wall/gran/rollslide ... preset lammps` (dumps named after `tag`), and returns both dumps.
+fn stock_and_lammps_preset(
+    exe: &Path,
+    dir: &Path,
+    tag: &str,
+    vars: &[(&str, &str)],
+) -> (Dump, Dump) {
+    let mut stock_vars = vars.to_vec();
+    stock_vars.push(("fix", "wall/gran"));
+    let stock = run(exe, dir, 1, &format!("stock_{tag}.dump"), &stock_vars);
+    let mut ours_vars = vars.to_vec();
+    ours_vars.extend([("fix", "wall/gran/rollslide"), ("preset", "lammps")]);
+    let ours = run(exe, dir, 1, &format!("lammps_{tag}.dump"), &ours_vars);
+    (stock, ours)
+}
+
+/// Worst per-atom relative differences (force, torque) over every step both dumps hold.
+fn worst_relative(a: &Dump, b: &Dump) -> (f64, f64) {
+    let (mut wf, mut wt) = (0.0f64, 0.0f64);
+    assert_eq!(a.len(), b.len(), "the dumps hold different steps");
+    for (step, rows) in a {
+        let (f, t) = compare(rows, &b[step]);
+        wf = wf.max(f.relative);
+        wt = wt.max(t.relative);
+    }
+    (wf, wt)
+}
+
+/// Stock `fix wall/gran granular` against `fix wall/gran/rollslide ... preset lammps`, same
+/// coefficients, one rank: per-atom forces and torques at every one of the first 100 steps
+/// agree to 1e-10 relative (measured: below 5e-14), for four law sets (A: hooke, velocity
+/// damping, linear_history, rolling sds, twisting sds; B: hertz/material, viscoelastic damping,
+/// mindlin with NULL stiffness, twisting marshall; C: tsuji damping; E: hertz, mass_velocity
+/// damping, marshall, limit_damping), on a floor and ceiling pair (`zplane 0.0 12.0`) still,
+/// wiggling along the normal (`wiggle z`), along the wall (`wiggle x`) and sheared (`shear x`),
+/// and on a single floor (`zplane 0.0 NULL`).
+///
+/// Walls carry no pair order, so stock LAMMPS makes no history sign change here, and the two
+/// codes evaluate the same formulas in other orders (a few ulps per contact). 1e-10: the scene
+/// amplifies rounding by less than 1e3 over 100 steps (measured: the worst of 77 law, wall and
+/// motion combinations was 3.5e-13; below 1e-9 after 2000 steps), while a rule difference
+/// (the torque arm, a clip, a transport condition, a coefficient) moves loads by 1e-4 or more:
+/// control, the objective preset against stock, above 1e-4 (measured: above 1).
+fn flat_walls_match_stock_fix_wall_gran(exe: &Path) {
+    let dir = rundir("walls_stock");
+    let mut cases: Vec<(&str, &str, &str)> = Vec::new();
+    for law in ["A", "B", "C", "E"] {
+        for motion in ["none", "wiggle", "wiggle_t", "shear"] {
+            cases.push(("zpair", law, motion));
+        }
+    }
+    cases.push(("zplane", "A", "none"));
+    let (mut worst_f, mut worst_t) = (0.0f64, 0.0f64);
+    for (wall, law, motion) in cases {
+        let common = [
+            ("wall", wall),
+            ("law", law),
+            ("motion", motion),
+            ("steps", "100"),
+            ("dumpevery", "1"),
+        ];
+        let (stock, ours) =
+            stock_and_lammps_preset(exe, &dir, &format!("{wall}_{law}_{motion}"), &common);
+        let (f, t) = worst_relative(&stock, &ours);
+        println!("{wall} law {law} {motion}: steps 0-100, worst per-atom relative difference force {f:.2e}, torque {t:.2e}");
+        assert!(
+            f < 1e-10 && t < 1e-10,
+            "{wall} law {law} {motion}: wall/gran/rollslide preset lammps differs from stock (force {f:.2e}, torque {t:.2e})"
+        );
+        worst_f = worst_f.max(f);
+        worst_t = worst_t.max(t);
+        if law == "A" && motion == "none" && wall == "zpair" {
+            let mut objective_vars = common.to_vec();
+            objective_vars.extend([("fix", "wall/gran/rollslide"), ("preset", "objective")]);
+            let objective = run(exe, &dir, 1, "objective_zpair_A_none.dump", &objective_vars);
+            let (f, t) = worst_relative(&stock, &objective);
+            println!("control, objective preset vs stock: force {f:.2e}, torque {t:.2e}");
+            assert!(
+                f.max(t) > 1e-4,
+                "the control did not see the objective preset"
+            );
+        }
+    }
+    println!("worst over all cases: force {worst_f:.2e}, torque {worst_t:.2e}");
+}
+
+/// The cylinder (`zcylinder 5.0`, spheres inside): stock computes the normal force, Marshall's
+/// contact radius and the rolling radius with its curved effective radius `R r_w / (R + r_w)`,
+/// `r_w = -2 r_c` inside. The fix gives the library the tangent plane at the contact (a flat
+/// wall, rolling radius R) with stock's normal force and contact radius, and, for the `lammps`
+/// preset, the rolling spring in stock's units (stiffness and damping times s^2, friction times
+/// s, s = R_eff / R, the same law in the variable xi / s): per-atom loads at every one of the
+/// first 100 steps agree with stock to 1e-10 (measured below 5e-14; tolerance as for the flat
+/// walls) for the laws A, B, C and E, the cylinder still, wiggling along its axis and sliding
+/// along it (`shear z`). Not compared: `shear x` (the cylinder turning about its axis), where
+/// stock adds each atom's surface velocity to the wall velocity of the atoms after it (its
+/// `vwall` accumulates over the atom loop), so its loads are not those of a turning cylinder.
+fn zcylinder_lammps_preset_matches_stock(exe: &Path) {
+    let dir = rundir("walls_cylinder");
+    let (mut worst_f, mut worst_t) = (0.0f64, 0.0f64);
+    for law in ["A", "B", "C", "E"] {
+        for motion in ["none", "wiggle", "shear_z"] {
+            let common = [
+                ("wall", "zcylinder"),
+                ("law", law),
+                ("motion", motion),
+                ("vbulk", "3"),
+                ("steps", "100"),
+                ("dumpevery", "1"),
+            ];
+            let (stock, ours) =
+                stock_and_lammps_preset(exe, &dir, &format!("{law}_{motion}"), &common);
+            let (f, t) = worst_relative(&stock, &ours);
+            println!("zcylinder law {law} {motion}: steps 0-100, worst per-atom relative difference force {f:.2e}, torque {t:.2e}");
+            assert!(
+                f < 1e-10 && t < 1e-10,
+                "zcylinder law {law} {motion}: preset lammps differs from stock (force {f:.2e}, torque {t:.2e})"
+            );
+            worst_f = worst_f.max(f);
+            worst_t = worst_t.max(t);
+        }
+    }
+    println!("worst over all cases: force {worst_f:.2e}, torque {worst_t:.2e}");
+}
+
+/// Ranks, newton and sorting: the spheres move as a whole along the walls (at speed 10 along x
+/// on the floor and ceiling, split between 2 ranks at x = 12 and across the periodic boundary;
+/// at about 8 around the cylinder, split at x = 0) for 3000 steps, so that many atoms change
+/// rank with their wall contacts live. `-np 2` with newton on and off, and one rank with atom
+/// sorting every 10 steps, give the per-atom loads of one rank without sorting at step 3000 to
+/// 1e-12 of the median load, for the objective preset (floor and ceiling wiggling along x; a
+/// turning cylinder with law E) and the `lammps` preset (sheared floor and ceiling, law B).
+///
+/// 1e-12: each atom's loads come from its own wall contact and its body force, computed in the
+/// same order whatever rank owns it, so the runs are equal to the bit (measured: 0) unless a
+/// history is lost, garbled or given to another atom on the way; a lost history changes the
+/// loads at O(1) of the median load (the control of `restart_continues_the_wall_run`).
+fn ranks_newton_and_sorting_carry_the_wall_histories(exe: &Path) {
+    let dir = rundir("walls_mpi");
+    for (wall, law, motion, preset, vbulk) in [
+        ("zpair", "A", "wiggle_t", "objective", "10"),
+        ("zcylinder", "E", "shear", "objective", "8"),
+        ("zpair", "B", "shear", "lammps", "10"),
+    ] {
+        let go = |np: usize, newton: &str, sort: &str| {
+            run(
+                exe,
+                &dir,
+                np,
+                &format!("{wall}_{law}_{preset}_np{np}_{newton}_sort{sort}.dump"),
+                &[
+                    ("wall", wall),
+                    ("law", law),
+                    ("motion", motion),
+                    ("preset", preset),
+                    ("vbulk", vbulk),
+                    ("newton", newton),
+                    ("sort", sort),
+                    ("steps", "3000"),
+                    ("dumpevery", "3000"),
+                ],
+            )
+        };
+        let reference = go(1, "off", "0");
+        let (start, end) = (&reference[&0], &reference[&3000]);
+        // Atoms on the other rank's side at the end than at the start (columns: id fx fy fz
+        // tqx tqy tqz x y z), touching their wall then (a wall torque).
+        let side = |r: &Vec<f64>| {
+            if wall == "zcylinder" {
+                r[7] < 0.0
+            } else {
+                r[7] < 12.0
+            }
+        };
+        let migrated = start
+            .iter()
+            .zip(end)
+            .filter(|(a, b)| side(a) != side(b) && common::lammps::norm(&b[4..7]) > 0.0)
+            .count();
+        println!("{wall} law {law} {motion} {preset}: {migrated} of {} atoms changed subdomain and touch their wall at step 3000", end.len());
+        assert!(
+            migrated >= 10,
+            "only {migrated} atoms changed subdomain with their contacts"
+        );
+        for (np, newton, sort) in [
+            (2, "on", "0"),
+            (2, "off", "0"),
+            (1, "on", "10"),
+            (2, "on", "10"),
+        ] {
+            let other = go(np, newton, sort);
+            let (f, t) = compare(end, &other[&3000]);
+            println!(
+                "   np {np} newton {newton} sort {sort}: step 3000, worst difference / median load: force {:.2e}, torque {:.2e}",
+                f.over_median, t.over_median
+            );
+            assert!(
+                f.over_median < 1e-12 && t.over_median < 1e-12,
+                "{wall} law {law} {preset}: np {np} newton {newton} sort {sort} differs from one rank: force {:.2e}, torque {:.2e}",
+                f.over_median,
+                t.over_median
+            );
+        }
+    }
+}
+
+/// write_restart / read_restart: 1500 steps, a restart file, a new process continuing to 3000
+/// (2 ranks, newton on, sorting every 10 steps, the spheres moving through the subdomains).
+/// The file carries each atom's wall history and the wiggle's time origin (a global restart
+/// value: stock fix wall/gran restarts its wiggle from the restart step).
+///
+/// Objective preset, law D (no damping), the floor and ceiling wiggling along their normal, and
+/// the turning cylinder: the restarted run's loads at step 3000 are the uninterrupted run's to
+/// 1e-10 of the median load (measured 0: the setup pass of the restarted run gives the loads of
+/// the stored springs, which without damping are the last step's).
+///
+/// `lammps` preset, law A (damped): compared with the same two runs made in one process (`run
+/// 1500` twice), to 1e-12 of the median load (measured 0). Not with the uninterrupted run: a
+/// run's setup pass recomputes the damped loads with the full-step velocities (as in stock
+/// LAMMPS; measured 1e-6 of the median load at step 3000), see docs/lammps.md.
+///
+/// Control: the restarted run with the wall fix under another ID (so that it finds neither
+/// histories nor time origin in the file) differs by more than 1e-2 of the median load.
+fn restart_continues_the_wall_run(exe: &Path) {
+    let dir = rundir("walls_restart");
+    for (wall, law, preset, motion, vbulk) in [
+        ("zpair", "D", "objective", "wiggle", "10"),
+        ("zcylinder", "D", "objective", "shear", "8"),
+        ("zpair", "A", "lammps", "wiggle", "10"),
+    ] {
+        let tag = format!("{wall}_{law}_{preset}_{motion}");
+        let restart = format!("{tag}.restart");
+        let go = |extra: &[(&str, &str)], name: &str| {
+            let mut vars = vec![
+                ("wall", wall),
+                ("law", law),
+                ("preset", preset),
+                ("motion", motion),
+                ("vbulk", vbulk),
+                ("newton", "on"),
+                ("sort", "10"),
+                ("steps", "3000"),
+                ("dumpevery", "1500"),
+            ];
+            vars.extend_from_slice(extra);
+            run(exe, &dir, 2, &format!("{name}_{tag}.dump"), &vars)
+        };
+        let reference = if preset == "objective" {
+            go(&[], "uninterrupted")
+        } else {
+            go(&[("split", "1500")], "two_runs")
+        };
+        go(
+            &[("restart_at", "1500"), ("restart_file", &restart)],
+            "first",
+        );
+        let resumed = go(
+            &[("from_restart", "1"), ("restart_file", &restart)],
+            "resumed",
+        );
+        let (f, t) = compare(&reference[&3000], &resumed[&3000]);
+        println!(
+            "{tag}: restarted at 1500, step 3000: force {:.2e}, torque {:.2e} of the median load",
+            f.over_median, t.over_median
+        );
+        let bound = if preset == "objective" { 1e-10 } else { 1e-12 };
+        assert!(
+            f.over_median < bound && t.over_median < bound,
+            "{tag}: the restarted run differs: force {:.2e}, torque {:.2e}",
+            f.over_median,
+            t.over_median
+        );
+        let lost = go(
+            &[
+                ("from_restart", "1"),
+                ("restart_file", &restart),
+                ("fixid", "other"),
+            ],
+            "control",
+        );
+        let (f, t) = compare(&resumed[&3000], &lost[&3000]);
+        println!(
+            "   control, the wall fix under another ID: force {:.2e}, torque {:.2e} of the median load",
+            f.over_median, t.over_median
+        );
+        assert!(
+            f.over_median.max(t.over_median) > 1e-2,
+            "{tag}: the control changed nothing"
+        );
+    }
+}
+
+/// With `compute rollslide/energy`, the wall fix tallies its contacts (the `wall` columns): the
+/// budget `dE_kin + dE_rot + dE_pot + dE_elastic + E_dissipated - E_transport` over 0.4 time
+/// units (E_pot: the gravity's, or the radial push's) closes to the time-integration error,
+/// which falls in proportion to dt:
+/// - the normal force alone (`tangential linear_history 0 0 0`, the fix's own terms: the normal
+///   dashpot's dissipation and the normal spring's energy), floor and ceiling: residual below
+///   1e-2 of the dissipated energy at dt = 2e-4 (measured 3.5e-3) and four times smaller at
+///   dt = 5e-5 (bound: 0.35 times);
+/// - the whole law A on the cylinder (sliding, rolling and twisting from the library, fast
+///   slip: `k v dt` near `mu f_n`): residual below 1e-3 of the dissipated energy at dt = 2e-4
+///   (measured 4.0e-5: 0.0027 of 67.7) and four times smaller at dt = 5e-5 (bound 0.35 times).
+///
+/// Then ranks: the floor and ceiling moving along x through 2 subdomains (`-np 2`, newton on,
+/// sorting) give the one-rank run's dissipated and elastic energies to 1e-12 (measured 0: each
+/// contact is tallied once, by its atom's owner, and its springs' last energies move with it).
+fn wall_contacts_are_tallied_in_the_energy_budget(exe: &Path) {
+    let dir = rundir("walls_energy");
+    // Thermo columns with energy 1: step ke rke mean|torque| epot transport dissipated elastic.
+    let budget = |rows: &[Vec<f64>]| {
+        let e = |r: &[f64]| r[1] + r[2] + r[4] + r[7];
+        let (a, b) = (&rows[0], rows.last().unwrap());
+        let dissipated = b[6] - a[6];
+        (e(b) - e(a) + dissipated - (b[5] - a[5]), dissipated)
+    };
+    let go = |np: usize, dt: &str, extra: &[(&str, &str)]| {
+        let steps = format!("{}", (0.4 / dt.parse::<f64>().unwrap()).round() as u64);
+        let mut vars = vec![
+            ("energy", "1"),
+            ("dt", dt),
+            ("steps", steps.as_str()),
+            ("thermo", steps.as_str()),
+        ];
+        vars.extend_from_slice(extra);
+        thermo(&lammps(exe, &dir, np, "in.wall_gran", &vars))
+    };
+    let normal_only = [
+        ("wall", "zpair"),
+        ("custom", "1"),
+        (
+            "fixargs",
+            "granular hooke 2e4 20 damping velocity tangential linear_history 0 0 0 zplane 0.0 12.0 preset objective",
+        ),
+    ];
+    let (r1, d1) = budget(&go(1, "2e-4", &normal_only));
+    let (r2, d2) = budget(&go(1, "5e-5", &normal_only));
+    println!("normal force only: residual {r1:.3e} of {d1:.4} dissipated at dt 2e-4, {r2:.3e} of {d2:.4} at 5e-5");
+    assert!(
+        d1 > 0.1 && r1.abs() < 1e-2 * d1,
+        "normal force only: residual {r1:.3e}"
+    );
+    assert!(
+        r2.abs() < 0.35 * r1.abs(),
+        "normal force only: residual does not fall with dt"
+    );
+    let law_a = [("wall", "zcylinder"), ("law", "A"), ("vbulk", "3")];
+    let (r1, d1) = budget(&go(1, "2e-4", &law_a));
+    let (r2, d2) = budget(&go(1, "5e-5", &law_a));
+    println!("law A, cylinder: residual {r1:.4} of {d1:.4} dissipated at dt 2e-4, {r2:.4} of {d2:.4} at 5e-5");
+    assert!(
+        d1 > 1.0 && r1.abs() < 1e-3 * d1,
+        "law A: residual {r1:.3e} of {d1:.3e}"
+    );
+    assert!(
+        r2.abs() < 0.35 * r1.abs(),
+        "law A: residual does not fall with dt"
+    );
+
+    let moving = [
+        ("wall", "zpair"),
+        ("law", "A"),
+        ("motion", "wiggle_t"),
+        ("vbulk", "10"),
+    ];
+    let one = go(1, "2e-4", &moving);
+    let mut two_vars = moving.to_vec();
+    two_vars.extend([("newton", "on"), ("sort", "10")]);
+    let two = go(2, "2e-4", &two_vars);
+    let (a, b) = (one.last().unwrap(), two.last().unwrap());
+    for (k, name) in [(5, "transport"), (6, "dissipated"), (7, "elastic")] {
+        let d = (a[k] - b[k]).abs();
+        println!("np 2 vs np 1, {name}: {:.6e} vs {:.6e}", a[k], b[k]);
+        assert!(
+            d <= 1e-12 * a[6].abs().max(1.0),
+            "np 2 {name} differs by {d:.2e}"
+        );
+    }
+}
+
+/// Bad arguments are LAMMPS errors with a message naming what is wrong, never a crash: an
+/// unknown or unsupported wall style, a cylinder radius that is not positive, missing
+/// coefficients, an unknown keyword, the interaction styles and keywords outside the subset,
+/// coefficients the library refuses (its message), and a contact the library refuses (an atom
+/// with velocity 1e308, whose loads overflow), which names the atom, the fix and the wall, on
+/// one rank and on the second of two.
+fn bad_wall_arguments_are_lammps_errors(exe: &Path) {
+    let dir = rundir("walls_bad");
+    let ok = "hooke 1e4 0 tangential linear_history 1e4 0 0.5";
+    let g = |rest: &str| format!("granular {ok} {rest}");
+    let cases: Vec<(usize, String, &str, &str, &str)> = vec![
+        // (ranks, fix arguments, wall scene, bad atom, expected text)
+        (1, g("xcylinder 5.0"), "zplane", "0", "wall style 'xcylinder' is not supported"),
+        (1, g("region box"), "zplane", "0", "wall style 'region' is not supported"),
+        (1, g("zcylinder -5.0"), "zcylinder", "0", "zcylinder radius must be > 0 (got -5.0)"),
+        (1, g("zcylinder"), "zcylinder", "0", "zcylinder needs its radius"),
+        (
+            1,
+            "granular hooke 1e4 tangential linear_history 1e4 0 0.5 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "instead of 'tangential'",
+        ),
+        (
+            1,
+            "granular hooke 1e4 0 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "a normal model and a tangential model are required",
+        ),
+        (1, g("zplane 0.0"), "zplane", "0", "zplane needs lo and hi"),
+        (1, g(""), "zplane", "0", "a wall style (xplane, yplane, zplane or zcylinder) must follow"),
+        (1, g("zplane 0.0 NULL fancy 1"), "zplane", "0", "unknown keyword 'fancy'"),
+        (1, g("zplane 0.0 NULL contacts"), "zplane", "0", "keyword 'contacts' is not supported"),
+        (1, g("zplane 0.0 NULL preset yade"), "zplane", "0", "unknown preset 'yade'"),
+        (1, g("cutoff 1.0 zplane 0.0 NULL"), "zplane", "0", "keyword 'cutoff' is not supported"),
+        (
+            1,
+            "granular jkr 1e4 0 0.3 1 tangential linear_history 1e4 0 0.5 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "keyword 'jkr' is not supported",
+        ),
+        (
+            1,
+            "hooke/history 1e4 NULL 0 NULL 0.5 0 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "interaction style 'hooke/history' is not supported",
+        ),
+        (
+            1,
+            g("zplane 0.0 NULL wiggle z 0.1 1.0 shear x 1.0"),
+            "zplane",
+            "0",
+            "wiggle and shear cannot be used together",
+        ),
+        (1, g("zplane 0.0 NULL shear z 1.0"), "zplane", "0", "shear must be along the wall"),
+        (1, g("xplane 0.0 10.0"), "zplane", "0", "xplane wall in a periodic dimension"),
+        (
+            1,
+            format!("granular {ok} rolling sds -1 1 1 zplane 0.0 NULL"),
+            "zplane",
+            "0",
+            "rolling stiffness = -1",
+        ),
+        (
+            1,
+            g("zplane 0.0 NULL"),
+            "zplane",
+            "5",
+            "fix walls wall/gran/rollslide: rsl_contact_step_wall failed for atom 5 and the wall zplane lo: non-finite",
+        ),
+        (
+            2,
+            g("zplane 0.0 NULL preset lammps"),
+            "zplane",
+            "31",
+            "failed for atom 31 and the wall zplane lo: non-finite",
+        ),
+    ];
+    for (np, args, wall, bad, want) in &cases {
+        let args = [
+            "-var", "steps", "2", "-var", "wall", wall, "-var", "badatom", bad, "-var", "custom",
+            "1", "-var", "fixargs", args,
+        ];
+        let error = lammps_error(exe, &dir, *np, "in.wall_gran", &args);
+        println!("{error}");
+        assert!(error.contains(want), "expected '{want}' in: {error}");
+    }
+}
