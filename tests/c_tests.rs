@@ -50,18 +50,37 @@ fn c_test_sources() -> Vec<PathBuf> {
     v
 }
 
-/// The ```c block of README.md that follows the marker `<!-- compiled by tests/c_tests.rs -->`.
-fn readme_snippet() -> String {
+/// The ```c (`fence` "c") or ```cpp block of README.md right after a marker `<!-- compiled by
+/// tests/c_tests.rs -->`.
+fn readme_snippet(fence: &str) -> String {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let after = readme
+    let opening = format!("```{fence}\n");
+    readme
         .split("<!-- compiled by tests/c_tests.rs -->")
-        .nth(1)
-        .expect("README.md lacks the marker of the compiled C snippet");
-    let body = after
-        .split("```c\n")
-        .nth(1)
-        .expect("no ```c block after the marker");
-    body.split("```").next().unwrap().to_string()
+        .skip(1)
+        .find_map(|after| after.trim_start().strip_prefix(opening.as_str()))
+        .map(|body| body.split("```").next().unwrap().to_string())
+        .unwrap_or_else(|| panic!("README.md has no marked ```{fence} block"))
+}
+
+/// README's C++ snippet (a statement sequence on `body1`, `body2`, `input`) inside a program
+/// that gives it two touching spheres and an input, and checks the loads it returns.
+fn readme_cpp_program() -> String {
+    format!(
+        "#include \"rollslide.hpp\"\n#include <cstdio>\n\
+         static rsl_contact_loads snippet(const rsl_sphere &body1, const rsl_sphere &body2,\n\
+                                          const rsl_contact_input &input) {{\n{}\n\
+         return loads;\n}}\n\
+         int main() {{\n\
+         rsl_sphere a = {{{{0, 0, 0}}, {{0, 0.1, 0}}, {{0, 0, 1}}, 0.5}};\n\
+         rsl_sphere b = {{{{0.99, 0, 0}}, {{0, 0, 0}}, {{0, 0, 0}}, 0.5}};\n\
+         rsl_contact_input in = rsl_contact_input();\n\
+         in.normal_force = 10.0; in.dt = 1e-4;\n\
+         rsl_contact_loads l = snippet(a, b, in);\n\
+         std::printf(\"force on body 1 %g %g %g\\n\", l.force1.x, l.force1.y, l.force1.z);\n\
+         return l.force1.x == -10.0 && l.force1.y < 0.0 ? 0 : 1;\n}}\n",
+        readme_snippet("cpp")
+    )
 }
 
 fn main() {
@@ -177,13 +196,33 @@ fn main() {
         "readme_c_snippet_compiles_and_runs",
         move || {
             let src = work3.join("readme_snippet.c");
-            std::fs::write(&src, readme_snippet()).unwrap();
+            std::fs::write(&src, readme_snippet("c")).unwrap();
             let out = work3.join("readme_snippet");
             build_c_program(&[src], &out)?;
             let printed = run(Command::new(&out), "running the README snippet")?;
             if !printed.contains("rolling velocity") {
                 return Err(format!("README snippet printed unexpected output:\n{printed}").into());
             }
+            remove_test_program(&out);
+            Ok(())
+        },
+    ));
+
+    let work4 = work.clone();
+    trials.push(Trial::test(
+        "readme_cpp_snippet_compiles_and_runs",
+        move || {
+            let src = work4.join("readme_snippet.cpp");
+            std::fs::write(&src, readme_cpp_program()).unwrap();
+            let out = work4.join("readme_snippet_cpp");
+            let mut cmd = compiler(true).to_command();
+            cmd.args(["-std=c++11", "-Wall", "-Wextra", "-Werror"])
+                .arg("-I")
+                .arg(root().join("include"))
+                .arg(&src);
+            link_test_program(&mut cmd, &out);
+            run(cmd, "compiling README's C++ snippet")?;
+            run(Command::new(&out), "running README's C++ snippet")?;
             remove_test_program(&out);
             Ok(())
         },
