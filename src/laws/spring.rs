@@ -279,12 +279,14 @@ pub fn vector_spring<T: Real>(
         // The energy the clip released: zero to the bit where the spring sticks.
         let released = energy_of(norm_squared(&elastic_trial), k) - elastic;
         let slider = if increment && slipped.any() {
-            let elastic_before = match storage {
-                Storage::Displacement => spring * (-k),
-                Storage::Load => *spring,
+            // |E|^2 of the spring before the step, E = -k xi or the stored load (no nalgebra
+            // product here: one more use kept it out of line in the AVX2 kernel).
+            let before2 = match storage {
+                Storage::Displacement => norm_squared(spring) * (k * k),
+                Storage::Load => norm_squared(spring),
             };
             let work = -dot(&load, rate) * dt;
-            let stored = elastic - energy_of(norm_squared(&elastic_before), k);
+            let stored = elastic - energy_of(before2, k);
             select(slipped, work - dashpot - stored, released)
         } else {
             released
