@@ -20,7 +20,10 @@
 
 mod common;
 
-use common::lammps::{compare, diff, lammps, lammps_error, norm, read_dump, rundir, thermo, trial};
+use common::lammps::{
+    assert_loads_agree, compare, diff, lammps, lammps_error, norm, read_dump, rundir, thermo,
+    trial, worst_relative,
+};
 use std::path::Path;
 
 fn main() {
@@ -88,12 +91,7 @@ fn stock_granular_and_granular_rollslide_lammps_agree(exe: &Path) {
             );
             dumps.push(read_dump(&dir.join(dump)));
         }
-        let (mut wf, mut wt) = (0.0f64, 0.0f64);
-        for (step, rows) in &dumps[0] {
-            let (f, t) = compare(rows, &dumps[1][step]);
-            wf = wf.max(f.relative);
-            wt = wt.max(t.relative);
-        }
+        let (wf, wt) = worst_relative(&dumps[0], &dumps[1]);
         println!("law {law}: steps 0-20, worst per-atom relative difference force {wf:.2e}, torque {wt:.2e}");
         assert!(
             wf < 1e-10 && wt < 1e-10,
@@ -188,12 +186,7 @@ fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree(exe: &P
             );
             dumps.push(read_dump(&dir.join(dump)));
         }
-        let (mut wf, mut wt) = (0.0f64, 0.0f64);
-        for (step, rows) in &dumps[0] {
-            let (f, t) = compare(rows, &dumps[1][step]);
-            wf = wf.max(f.relative);
-            wt = wt.max(t.relative);
-        }
+        let (wf, wt) = worst_relative(&dumps[0], &dumps[1]);
         println!(
             "law {law}, 3 types: steps 0-20, worst per-atom relative difference force {wf:.2e}, torque {wt:.2e}"
         );
@@ -285,16 +278,11 @@ fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree(exe: &P
     };
     let one = moving(1, "off", "0");
     let two = moving(2, "on", "10");
-    let (f, t) = compare(&one[&600], &two[&600]);
-    println!(
-        "law M, 3 types, np 2 newton on sort 10 vs np 1: step 600, force {:.2e}, torque {:.2e} of the median load",
-        f.over_median, t.over_median
-    );
-    assert!(
-        f.over_median < 1e-8 && t.over_median < 1e-8,
-        "law M, 3 types: np 2 differs from one rank: force {:.2e}, torque {:.2e}",
-        f.over_median,
-        t.over_median
+    assert_loads_agree(
+        &one[&600],
+        &two[&600],
+        1e-8,
+        "law M, 3 types, np 2 newton on sort 10 vs np 1, step 600",
     );
 }
 
@@ -363,27 +351,22 @@ fn mpi_ranks_newton_and_sorting_carry_the_history(exe: &Path) {
         (2, "on", "10"),
     ] {
         let other = packing(np, "granular/rollslide", "lammps", newton, sort);
-        let (f, t) = compare(end, &other[&600]);
-        println!(
-            "np {np} newton {newton} sort {sort}: step 600, worst difference / median load: force {:.2e}, torque {:.2e}",
-            f.over_median, t.over_median
-        );
-        assert!(
-            f.over_median < 1e-8 && t.over_median < 1e-8,
-            "np {np} newton {newton} sort {sort} differs from one rank: force {:.2e}, torque {:.2e}",
-            f.over_median,
-            t.over_median
+        assert_loads_agree(
+            end,
+            &other[&600],
+            1e-8,
+            &format!("np {np} newton {newton} sort {sort}, step 600"),
         );
     }
     // The objective preset: the same carrying of the history.
     let objective_one = packing(1, "granular/rollslide", "objective", "off", "0");
     let objective_two = packing(2, "granular/rollslide", "objective", "on", "10");
-    let (f, t) = compare(&objective_one[&600], &objective_two[&600]);
-    println!(
-        "objective preset, np 2 newton on sort 10 vs np 1: force {:.2e}, torque {:.2e}",
-        f.over_median, t.over_median
+    assert_loads_agree(
+        &objective_one[&600],
+        &objective_two[&600],
+        1e-8,
+        "objective preset, np 2 newton on sort 10 vs np 1, step 600",
     );
-    assert!(f.over_median < 1e-8 && t.over_median < 1e-8);
     // Control: stock LAMMPS flips the rolling and twisting springs at every swap.
     let stock_off = packing(1, "granular", "", "off", "0");
     let stock_on = packing(2, "granular", "", "on", "0");
@@ -506,16 +489,11 @@ fn restart_continues_the_run(exe: &Path) {
             &[("from_restart", "1"), ("restart_file", &restart)],
             &format!("resumed_{law}.dump"),
         );
-        let (f, t) = compare(&reference[&600], &resumed[&600]);
-        println!(
-            "law {law}, {preset}: restarted at 300, step 600: force {:.2e}, torque {:.2e} of the median load",
-            f.over_median, t.over_median
-        );
-        assert!(
-            f.over_median < 1e-8 && t.over_median < 1e-8,
-            "law {law}: the restarted run differs: force {:.2e}, torque {:.2e}",
-            f.over_median,
-            t.over_median
+        assert_loads_agree(
+            &reference[&600],
+            &resumed[&600],
+            1e-8,
+            &format!("law {law}, {preset}: restarted at 300, step 600"),
         );
         if law == "D" {
             let stock = go(

@@ -17,7 +17,10 @@
 
 mod common;
 
-use common::lammps::{compare, lammps, lammps_error, read_dump, rundir, thermo, trial, Dump};
+use common::lammps::{
+    assert_loads_agree, compare, lammps, lammps_error, read_dump, rundir, thermo, trial,
+    worst_relative, Dump,
+};
 use std::path::Path;
 
 fn main() {
@@ -72,18 +75,6 @@ fn stock_and_lammps_preset(
     ours_vars.extend([("fix", "wall/gran/rollslide"), ("preset", "lammps")]);
     let ours = run(exe, dir, 1, &format!("lammps_{tag}.dump"), &ours_vars);
     (stock, ours)
-}
-
-/// Worst per-atom relative differences (force, torque) over every step both dumps hold.
-fn worst_relative(a: &Dump, b: &Dump) -> (f64, f64) {
-    let (mut wf, mut wt) = (0.0f64, 0.0f64);
-    assert_eq!(a.len(), b.len(), "the dumps hold different steps");
-    for (step, rows) in a {
-        let (f, t) = compare(rows, &b[step]);
-        wf = wf.max(f.relative);
-        wt = wt.max(t.relative);
-    }
-    (wf, wt)
 }
 
 /// Stock `fix wall/gran granular` against `fix wall/gran/rollslide ... preset lammps`, same
@@ -249,16 +240,13 @@ fn ranks_newton_and_sorting_carry_the_wall_histories(exe: &Path) {
             (2, "on", "10"),
         ] {
             let other = go(np, newton, sort);
-            let (f, t) = compare(end, &other[&3000]);
-            println!(
-                "   np {np} newton {newton} sort {sort}: step 3000, worst difference / median load: force {:.2e}, torque {:.2e}",
-                f.over_median, t.over_median
-            );
-            assert!(
-                f.over_median < 1e-12 && t.over_median < 1e-12,
-                "{wall} law {law} {preset}: np {np} newton {newton} sort {sort} differs from one rank: force {:.2e}, torque {:.2e}",
-                f.over_median,
-                t.over_median
+            assert_loads_agree(
+                end,
+                &other[&3000],
+                1e-12,
+                &format!(
+                    "{wall} law {law} {preset}: np {np} newton {newton} sort {sort}, step 3000"
+                ),
             );
         }
     }
@@ -318,17 +306,12 @@ fn restart_continues_the_wall_run(exe: &Path) {
             &[("from_restart", "1"), ("restart_file", &restart)],
             "resumed",
         );
-        let (f, t) = compare(&reference[&3000], &resumed[&3000]);
-        println!(
-            "{tag}: restarted at 1500, step 3000: force {:.2e}, torque {:.2e} of the median load",
-            f.over_median, t.over_median
-        );
         let bound = if preset == "objective" { 1e-10 } else { 1e-12 };
-        assert!(
-            f.over_median < bound && t.over_median < bound,
-            "{tag}: the restarted run differs: force {:.2e}, torque {:.2e}",
-            f.over_median,
-            t.over_median
+        assert_loads_agree(
+            &reference[&3000],
+            &resumed[&3000],
+            bound,
+            &format!("{tag}: restarted at 1500, step 3000"),
         );
         let lost = go(
             &[

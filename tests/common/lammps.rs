@@ -315,6 +315,34 @@ pub fn compare(a: &[Vec<f64>], b: &[Vec<f64>]) -> (Worst, Worst) {
     (out.pop().unwrap(), t)
 }
 
+/// Worst per-atom relative differences (force, torque) over every step both dumps hold.
+pub fn worst_relative(a: &Dump, b: &Dump) -> (f64, f64) {
+    let (mut wf, mut wt) = (0.0f64, 0.0f64);
+    assert_eq!(a.len(), b.len(), "the dumps hold different steps");
+    for (step, rows) in a {
+        let (f, t) = compare(rows, &b[step]);
+        wf = wf.max(f.relative);
+        wt = wt.max(t.relative);
+    }
+    (wf, wt)
+}
+
+/// Asserts that two runs' loads at one step (dump rows) differ by less than `bound` of the median
+/// load, force and torque, and prints the measured differences under `what`.
+pub fn assert_loads_agree(a: &[Vec<f64>], b: &[Vec<f64>], bound: f64, what: &str) {
+    let (f, t) = compare(a, b);
+    println!(
+        "{what}: worst difference / median load: force {:.2e}, torque {:.2e}",
+        f.over_median, t.over_median
+    );
+    assert!(
+        f.over_median < bound && t.over_median < bound,
+        "{what}: force {:.2e}, torque {:.2e} of the median load (bound {bound:e})",
+        f.over_median,
+        t.over_median
+    );
+}
+
 /// Thermo rows of a log (all numeric columns of its thermo_style), from every run in it.
 pub fn thermo(log: &str) -> Vec<Vec<f64>> {
     let mut rows = Vec::new();
