@@ -268,12 +268,9 @@ pub fn pair_geometry_in_range<T: Real>(
 /// then inaccurate or 0), `v` is first divided by its largest absolute component, which
 /// brings the length to between 1 and `sqrt 3`.
 fn unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> Option<Vec3<T>> {
-    let len = norm(v);
-    if is_positive(len) && len.is_finite() {
-        let unit = v / len;
-        if is_unit(&unit) {
-            return Some(unit);
-        }
+    let (unit, accurate) = plain_unit_vector(v);
+    if accurate {
+        return Some(unit);
     }
     let largest = v.x.abs().max(v.y.abs()).max(v.z.abs());
     if !is_positive(largest) {
@@ -281,6 +278,18 @@ fn unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> Option<Vec3<T>> {
     }
     let scaled = v / largest;
     Some(scaled / norm(&scaled))
+}
+
+/// The plain `v / |v|` of [`unit_vector`] and whether it is its result: `|v|` finite and > 0
+/// and the quotient of unit length to rounding (false for a NaN anywhere). The per-contact
+/// fast path of a wall takes the quotient only when this says so, and so gets the checked
+/// path's bits.
+#[inline(always)]
+pub fn plain_unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> (Vec3<T>, bool) {
+    let len = norm(v);
+    let unit = v / len;
+    let accurate = is_positive(len) & len.is_finite() & is_unit(&unit);
+    (unit, accurate)
 }
 
 /// Geometry of a sphere against a flat wall with every check: finite input, radius > 0, a

@@ -204,6 +204,10 @@ pub(crate) mod tests {
         pub(crate) fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
             lo + (hi - lo) * self.next()
         }
+        /// Uniform in `0..n`.
+        pub(crate) fn below(&mut self, n: usize) -> usize {
+            ((self.next() * n as f64) as usize).min(n - 1)
+        }
         /// Each component uniform in `[-size, size)`.
         pub(crate) fn vec(&mut self, size: f64) -> rsl_vec3 {
             rsl_vec3 {

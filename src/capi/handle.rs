@@ -1,12 +1,12 @@
 //! The contact model handle `rsl_model` (opaque to C) as the entry points read it: its liveness
 //! tag, the core model, the table of material pairs and the per-contact steps chosen for this
-//! CPU ([`PairSteps`], whose builds are `contact`'s). Its C functions (`rsl_model_new`,
+//! CPU ([`ContactSteps`], whose builds are `contact`'s). Its C functions (`rsl_model_new`,
 //! `rsl_model_free`, the setters) are `model`'s.
 #![allow(non_camel_case_types)]
 
 use super::input;
 use super::status::FfiError;
-use super::types::{rsl_contact_loads, rsl_sphere, rsl_vec3};
+use super::types::{rsl_contact_loads, rsl_sphere, rsl_vec3, rsl_wall};
 use crate::laws::materials::Coefficients;
 use crate::laws::model::Model;
 use crate::layout::{rsl_contact_input, rsl_contact_state};
@@ -25,7 +25,7 @@ pub struct rsl_model {
     pub(crate) materials: Vec<Coefficients>,
     /// `rsl_contact_step` and `rsl_contact_step_accumulate` on this CPU (its fast
     /// path, the checked step on refusal), chosen once here rather than per call.
-    pub(crate) pair_steps: PairSteps,
+    pub(crate) steps: ContactSteps,
 }
 
 impl rsl_model {
@@ -34,14 +34,14 @@ impl rsl_model {
         self.magic == LIVE
     }
 
-    /// A live handle of `model` (already validated), with the per-contact steps `pair_steps`
-    /// (`contact::pair_steps` gives those of this CPU).
-    pub(crate) fn live(model: Model, pair_steps: PairSteps) -> Self {
+    /// A live handle of `model` (already validated), with the per-contact steps `steps`
+    /// (`contact::contact_steps` gives those of this CPU).
+    pub(crate) fn live(model: Model, steps: ContactSteps) -> Self {
         rsl_model {
             magic: LIVE,
             model,
             materials: Vec::new(),
-            pair_steps,
+            steps,
         }
     }
 }
@@ -87,13 +87,38 @@ pub(crate) type AccumulateStep = unsafe extern "C" fn(
     *mut rsl_vec3,
 ) -> i32;
 
+/// `rsl_contact_step_wall`'s signature, for the same purpose as [`OutStep`].
+pub(crate) type WallOutStep = unsafe extern "C" fn(
+    *const rsl_model,
+    *const rsl_sphere,
+    *const rsl_wall,
+    *const rsl_contact_input,
+    *mut rsl_contact_state,
+    *mut rsl_contact_loads,
+) -> i32;
+
+/// `rsl_contact_step_wall_accumulate`'s signature, for the same purpose as [`OutStep`].
+pub(crate) type WallAccumulateStep = unsafe extern "C" fn(
+    *const rsl_model,
+    *const rsl_sphere,
+    *const rsl_wall,
+    *const rsl_contact_input,
+    *mut rsl_contact_state,
+    *mut rsl_vec3,
+    *mut rsl_vec3,
+) -> i32;
+
 /// The per-contact steps on this CPU, one per C entry, kept in the model handle. Each
 /// runs the fast path for a plain input and the checked step (which reports) for
 /// anything else and anything the fast path refuses, behind the panic boundary.
 #[derive(Clone, Copy)]
-pub(crate) struct PairSteps {
+pub(crate) struct ContactSteps {
     /// `rsl_contact_step`.
     pub(crate) out: OutStep,
     /// `rsl_contact_step_accumulate`.
     pub(crate) accumulate: AccumulateStep,
+    /// `rsl_contact_step_wall`.
+    pub(crate) wall_out: WallOutStep,
+    /// `rsl_contact_step_wall_accumulate`.
+    pub(crate) wall_accumulate: WallAccumulateStep,
 }

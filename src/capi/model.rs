@@ -5,7 +5,7 @@
 
 pub use super::handle::rsl_model;
 
-use super::contact::pair_steps;
+use super::contact::contact_steps;
 use super::decompose::{parse_options, rsl_decompose_options};
 use super::handle::{live_model, FREED, LIVE};
 use super::status::FfiError;
@@ -147,7 +147,7 @@ unsafe fn update(
     };
     *m = rsl_model {
         materials,
-        ..rsl_model::live(next, pair_steps())
+        ..rsl_model::live(next, contact_steps())
     };
     Ok(())
 }
@@ -187,7 +187,7 @@ pub unsafe extern "C" fn rsl_model_new(preset: i32, out: *mut *mut rsl_model) ->
         let out = unsafe { output(out, "out")? };
         let preset = parse_preset(preset)?;
         let model = Model::with_preset(preset);
-        let boxed = Box::new(rsl_model::live(model, pair_steps()));
+        let boxed = Box::new(rsl_model::live(model, contact_steps()));
         *out = Box::into_raw(boxed);
         Ok(())
     })

@@ -12,7 +12,7 @@ use super::batch::{
     rsl_batch_step_contacts_params, rsl_batch_step_indexed, rsl_batch_step_params,
     RSL_PRECISION_F64, RSL_SIMD_AVX2, RSL_SIMD_AVX512, RSL_SIMD_SCALAR,
 };
-use super::contact::pair_steps;
+use super::contact::contact_steps;
 use super::contact::{
     rsl_contact_energy, rsl_contact_input, rsl_contact_loads, rsl_contact_state, rsl_contact_step,
     RSL_INPUT_SLIDING_STIFFNESS,
@@ -31,7 +31,7 @@ use crate::layout::tests::{state_bits, Lcg};
 
 /// A live handle of `model` with this CPU's per-contact steps.
 fn live(model: Model) -> rsl_model {
-    rsl_model::live(model, pair_steps())
+    rsl_model::live(model, contact_steps())
 }
 
 /// The law sets of the test, one per preset family and rolling law kind: LAMMPS' full set,

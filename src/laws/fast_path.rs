@@ -1,22 +1,27 @@
-//! The per-contact step's fast path (`rsl_contact_step` without per-contact overrides): one
+//! The per-contact step's fast path (`rsl_contact_step`, `rsl_contact_step_wall` and their
+//! accumulating forms, with or without per-contact coefficients and limit force): one
 //! branch-free validity test instead of a check per field, then the step the batch kernels run
-//! ([`contact_step_with_geometry`]).
+//! ([`contact_step_with_geometry`]). The setup pass and cohesive bonds go to the checked step.
 //!
-//! It accepts only what the checked step ([`contact_step_pair`]) accepts, and gives the same
-//! bits: the geometry comes from the same formula ([`pair_geometry_unchecked`], which the
-//! checked path's `pair_geometry` wraps) and the same step follows. Anything the test does not pass,
+//! It accepts only what the checked step ([`contact_step_pair`], `contact_step_wall`) accepts,
+//! and gives the same bits: the geometry comes from the same formula
+//! ([`pair_geometry_unchecked`], which the checked path's `pair_geometry` wraps, and the same
+//! for a wall) and the same step follows. Anything the test does not pass,
 //! and any non-finite result, goes to the checked step, which returns the precise error (or,
 //! for inputs the quick test is stricter about than the checked step, the result).
 //!
 //! Its finiteness tests of the C structs as they are stored (the portable and the AVX2 one)
 //! are `finite`'s; the C layer (`capi::contact`) builds the per-contact steps from them and
-//! this module's [`step_pair_if_valid`].
+//! this module's [`step_pair_if_valid`] and [`step_wall_if_valid`].
 
 pub(crate) mod finite;
 
-use crate::decompose::Sphere;
+use crate::decompose::{Sphere, Wall};
 use crate::error::Error;
-use crate::geometry::{pair_geometry_in_range, pair_geometry_unchecked, ContactGeometry};
+use crate::geometry::{
+    pair_geometry_in_range, pair_geometry_unchecked, plain_unit_vector, wall_geometry_unchecked,
+    ContactGeometry,
+};
 use crate::laws::checked::contact_step_pair;
 use crate::laws::model::{Model, RollingDamping, RollingLaw};
 use crate::laws::step::{
@@ -24,22 +29,35 @@ use crate::laws::step::{
 };
 use crate::scalar::FiniteSums;
 
-/// True when `input` has no per-contact override, no limit force, no bond (shear adhesion,
-/// fragile) and is not the setup pass: the only inputs the fast path takes.
-fn plain(input: &StepInput<f64>) -> bool {
-    !input.setup
-        && input.sliding_stiffness.is_none()
-        && input.sliding_damping.is_none()
-        && input.sliding_friction.is_none()
-        && input.rolling_stiffness.is_none()
-        && input.rolling_damping.is_none()
-        && input.rolling_friction.is_none()
-        && input.twisting_stiffness.is_none()
-        && input.twisting_damping.is_none()
-        && input.twisting_friction.is_none()
-        && input.limit_force.is_none()
-        && input.shear_adhesion.is_none()
-        && !input.fragile_bond
+/// True when `input` is not the setup pass and has no bond (shear adhesion, fragile): the
+/// inputs the fast path takes, when their per-contact values are in its range too
+/// ([`overrides_in_range`]).
+fn unbonded_step(input: &StepInput<f64>) -> bool {
+    !input.setup && input.shear_adhesion.is_none() && !input.fragile_bond
+}
+
+/// Whether every per-contact value `input` gives (the coefficients that replace the model's and
+/// the limit force) is finite and >= 0, tested without a branch per field: the ones the fast
+/// path takes. A +inf friction coefficient or limit force ("no limit", which the checked step
+/// accepts where the law allows it) is left to the checked step.
+#[inline(always)]
+pub fn overrides_in_range(input: &StepInput<f64>) -> bool {
+    let values = [
+        input.sliding_stiffness,
+        input.sliding_damping,
+        input.sliding_friction,
+        input.limit_force,
+        input.rolling_stiffness,
+        input.rolling_damping,
+        input.rolling_friction,
+        input.twisting_stiffness,
+        input.twisting_damping,
+        input.twisting_friction,
+    ]
+    .map(|v| v.unwrap_or(0.0));
+    let mut sums = FiniteSums::default();
+    sums.add(values);
+    sums.all_finite() & values.iter().fold(true, |ok, &v| ok & (v >= 0.0))
 }
 
 /// The values of a sphere in the memory order of the C `rsl_sphere` (centre, velocity, angular
@@ -104,17 +122,11 @@ pub fn inputs_finite(
     sums.all_finite()
 }
 
-/// The range part of what the checked step accepts, for inputs already shown finite, tested
-/// without a branch per field. Stricter than the checked step in one place, left to it: a fixed
-/// body 2 (`mass2` or `inertia2` +inf).
+/// The range part of what the checked step accepts of `input`, for inputs already shown
+/// finite, tested without a branch per field. Stricter than the checked step in one place, left
+/// to it: a fixed body 2 (`mass2` or `inertia2` +inf).
 #[inline(always)]
-fn inputs_in_range(
-    model: &Model,
-    body1: &Sphere<f64>,
-    body2: &Sphere<f64>,
-    g: &ContactGeometry<f64>,
-    input: &StepInput<f64>,
-) -> bool {
+fn input_in_range(model: &Model, input: &StepInput<f64>, is_wall: bool) -> bool {
     // Non-negative inputs: their minimum is (-0 passes, as it does in the checked step).
     let min = |a: f64, b: f64| if a < b { a } else { b };
     let smallest = min(
@@ -124,19 +136,32 @@ fn inputs_in_range(
         ),
         min(input.inertia1, input.inertia2),
     );
-    let mut ok = pair_geometry_in_range(body1.radius, body2.radius, g)
-        // Finite centres can be too far apart for a finite distance.
-        & (g.distance <= f64::MAX)
-        & (smallest >= 0.0)
-        & (input.dt > 0.0);
+    let mut ok = (smallest >= 0.0) & (input.dt > 0.0);
     if model.needs_normal_stiffness() {
         ok &= input.normal_stiffness > 0.0;
     }
     if model.rolling.law == RollingLaw::Epsd && model.rolling.damping_rule == RollingDamping::Ratio
     {
-        ok &= (input.mass1 > 0.0) & (input.mass2 > 0.0);
+        // A wall has no mass of its own (the checked step reads none).
+        ok &= (input.mass1 > 0.0) & ((input.mass2 > 0.0) | is_wall);
     }
     ok
+}
+
+/// The range part of what the checked pair step accepts (geometry and input), for inputs
+/// already shown finite ([`input_in_range`] for the input).
+#[inline(always)]
+fn inputs_in_range(
+    model: &Model,
+    body1: &Sphere<f64>,
+    body2: &Sphere<f64>,
+    g: &ContactGeometry<f64>,
+    input: &StepInput<f64>,
+) -> bool {
+    pair_geometry_in_range(body1.radius, body2.radius, g)
+        // Finite centres can be too far apart for a finite distance.
+        & (g.distance <= f64::MAX)
+        & input_in_range(model, input, false)
 }
 
 /// Whether every load, the new state and (when the model tracks energy; otherwise they are 0)
@@ -213,7 +238,8 @@ pub fn step_outputs_finite(
 /// the same test done on its own layout of the values). The caller must then test the results
 /// ([`step_outputs_finite`]) and, on `None` or a non-finite result, run the checked step, which
 /// gives the error (or, for the few inputs the quick test is stricter about, the result).
-/// `input` must be plain (no override, no limit force, not the setup pass). Nothing here is
+/// `input` must be neither the setup pass nor a bond, and its per-contact values in range
+/// ([`overrides_in_range`]). Nothing here is
 /// passed by reference to a function that is not inlined, so the compiler keeps the inputs in
 /// registers.
 #[inline(always)]
@@ -225,7 +251,7 @@ pub fn step_pair_if_valid(
     state: &ContactState<f64>,
     inputs_finite: bool,
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
-    debug_assert!(plain(input));
+    debug_assert!(unbonded_step(input) && overrides_in_range(input));
     let g = pair_geometry_unchecked(
         &body1.position,
         &body2.position,
@@ -238,6 +264,47 @@ pub fn step_pair_if_valid(
     }
     let mut next = *state;
     let out = contact_step_with_geometry(model, g, body1, Partner::Sphere(body2), input, &mut next);
+    Some((out, next))
+}
+
+/// [`step_pair_if_valid`] for a sphere (body 1) against a flat wall: the step's output and the
+/// new state when the inputs pass the quick test, `None` otherwise (then the checked wall step,
+/// [`contact_step_wall`](crate::laws::checked::contact_step_wall), gives the error or the
+/// result). `inputs_finite` must say that every value of the sphere, the wall, the input's
+/// first eight fields and the state is finite. The wall normal need not be unit: it is
+/// normalised as the checked step does it (`v / |v|` where that is accurate; the rescaled
+/// form of the checked step, for lengths near overflow or underflow, is left to it), so the
+/// bits are the checked step's.
+#[inline(always)]
+pub fn step_wall_if_valid(
+    model: &Model,
+    sphere: &Sphere<f64>,
+    wall: &Wall<f64>,
+    input: &StepInput<f64>,
+    state: &ContactState<f64>,
+    inputs_finite: bool,
+) -> Option<(StepOutput<f64>, ContactState<f64>)> {
+    debug_assert!(unbonded_step(input) && overrides_in_range(input));
+    let (normal, unit) = plain_unit_vector(&wall.normal);
+    let g = wall_geometry_unchecked(
+        &sphere.position,
+        sphere.radius,
+        &wall.point,
+        &normal,
+        model.geometry,
+    );
+    let ok = inputs_finite
+        & unit
+        & (sphere.radius > 0.0)
+        & g.overlap.is_finite()
+        & (g.branch1 > 0.0)
+        & input_in_range(model, input, true);
+    if !ok {
+        return None;
+    }
+    let wall = Wall { normal, ..*wall };
+    let mut next = *state;
+    let out = contact_step_with_geometry(model, g, sphere, Partner::Wall(&wall), input, &mut next);
     Some((out, next))
 }
 
@@ -258,8 +325,8 @@ pub fn try_step_pair(
 }
 
 /// One checked step of a sphere pair, as [`contact_step_pair`] (same results, same errors,
-/// `state` written only on success), faster. Inputs with overrides, a limit force or the setup
-/// pass go straight to the checked step.
+/// `state` written only on success), faster. The setup pass, bonds and per-contact values out of
+/// the fast path's range ([`overrides_in_range`]) go straight to the checked step.
 #[inline(always)]
 pub fn contact_step_pair_fast(
     model: &Model,
@@ -268,7 +335,7 @@ pub fn contact_step_pair_fast(
     input: &StepInput<f64>,
     state: &mut ContactState<f64>,
 ) -> Result<StepOutput<f64>, Error> {
-    if plain(input) {
+    if unbonded_step(input) && overrides_in_range(input) {
         if let Some((out, next)) = try_step_pair(model, body1, body2, input, state) {
             *state = next;
             return Ok(out);

@@ -71,63 +71,77 @@ pub struct Conventions {
     pub setup: SetupRule,
 }
 
+/// The objective preset's conventions, which the others start from.
+const OBJECTIVE: Conventions = Conventions {
+    sliding_rate: SlidingRate::Branches,
+    sliding_clip: ClipRule::Total,
+    rolling_clip: ClipRule::Total,
+    twisting_clip: ClipRule::Total,
+    sliding_storage: Storage::Displacement,
+    rolling_storage: Storage::Displacement,
+    twist_vector: false,
+    cdt_liggghts: false,
+    lammps_rescale_threshold: false,
+    tension_limit: TensionLimit::Compressive,
+    yade_cohesion: false,
+    setup: SetupRule {
+        sliding_increment: false,
+        rolling_increment: false,
+        store: false,
+    },
+};
+
+/// Every preset's conventions, in the order of [`Preset`]'s variants: a table, so that a step
+/// reads the few it needs from memory (a `match` building the struct in every call compiled to
+/// a jump and a dozen stores per call).
+static CONVENTIONS: [Conventions; 4] = [
+    OBJECTIVE,
+    Conventions {
+        sliding_rate: SlidingRate::Radii,
+        sliding_clip: ClipRule::Lammps,
+        rolling_clip: ClipRule::Lammps,
+        twisting_clip: ClipRule::Lammps,
+        lammps_rescale_threshold: true,
+        tension_limit: TensionLimit::Magnitude,
+        setup: SetupRule {
+            sliding_increment: false,
+            rolling_increment: false,
+            store: true,
+        },
+        ..OBJECTIVE
+    },
+    Conventions {
+        sliding_rate: SlidingRate::YadeScaled,
+        sliding_storage: Storage::Load,
+        rolling_storage: Storage::Load,
+        twist_vector: true,
+        yade_cohesion: true,
+        ..OBJECTIVE
+    },
+    Conventions {
+        sliding_clip: ClipRule::SpringOnly,
+        rolling_storage: Storage::Load,
+        cdt_liggghts: true,
+        tension_limit: TensionLimit::Magnitude,
+        setup: SetupRule {
+            sliding_increment: false,
+            rolling_increment: true,
+            store: false,
+        },
+        ..OBJECTIVE
+    },
+];
+
 impl Preset {
     /// The conventions of this preset.
+    #[inline(always)]
     pub fn conventions(self) -> Conventions {
-        let objective = Conventions {
-            sliding_rate: SlidingRate::Branches,
-            sliding_clip: ClipRule::Total,
-            rolling_clip: ClipRule::Total,
-            twisting_clip: ClipRule::Total,
-            sliding_storage: Storage::Displacement,
-            rolling_storage: Storage::Displacement,
-            twist_vector: false,
-            cdt_liggghts: false,
-            lammps_rescale_threshold: false,
-            tension_limit: TensionLimit::Compressive,
-            yade_cohesion: false,
-            setup: SetupRule {
-                sliding_increment: false,
-                rolling_increment: false,
-                store: false,
-            },
+        let index = match self {
+            Preset::Objective => 0,
+            Preset::Lammps2021 => 1,
+            Preset::Yade2023 => 2,
+            Preset::Liggghts38 => 3,
         };
-        match self {
-            Preset::Objective => objective,
-            Preset::Lammps2021 => Conventions {
-                sliding_rate: SlidingRate::Radii,
-                sliding_clip: ClipRule::Lammps,
-                rolling_clip: ClipRule::Lammps,
-                twisting_clip: ClipRule::Lammps,
-                lammps_rescale_threshold: true,
-                tension_limit: TensionLimit::Magnitude,
-                setup: SetupRule {
-                    sliding_increment: false,
-                    rolling_increment: false,
-                    store: true,
-                },
-                ..objective
-            },
-            Preset::Yade2023 => Conventions {
-                sliding_rate: SlidingRate::YadeScaled,
-                sliding_storage: Storage::Load,
-                rolling_storage: Storage::Load,
-                twist_vector: true,
-                yade_cohesion: true,
-                ..objective
-            },
-            Preset::Liggghts38 => Conventions {
-                sliding_clip: ClipRule::SpringOnly,
-                rolling_storage: Storage::Load,
-                cdt_liggghts: true,
-                tension_limit: TensionLimit::Magnitude,
-                setup: SetupRule {
-                    sliding_increment: false,
-                    rolling_increment: true,
-                    store: false,
-                },
-                ..objective
-            },
-        }
+        CONVENTIONS[index]
     }
 }

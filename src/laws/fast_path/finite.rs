@@ -22,6 +22,15 @@ pub(crate) trait FiniteTest: Copy {
         input: &rsl_contact_input,
         state: &rsl_contact_state,
     ) -> bool;
+
+    /// Every double of one sphere, of the input's first eight fields and of the state is
+    /// finite (a sphere-wall step; the caller tests the wall's values).
+    fn sphere_inputs(
+        self,
+        sphere: &rsl_sphere,
+        input: &rsl_contact_input,
+        state: &rsl_contact_state,
+    ) -> bool;
 }
 
 /// [`FiniteTest`] with scalar adds (any CPU).
@@ -49,6 +58,19 @@ fn add_state(sums: &mut FiniteSums, s: &rsl_contact_state) {
     }
 }
 
+fn add_input(sums: &mut FiniteSums, i: &rsl_contact_input) {
+    sums.add([
+        i.normal_force,
+        i.dt,
+        i.normal_stiffness,
+        i.contact_radius,
+        i.mass1,
+        i.mass2,
+        i.inertia1,
+        i.inertia2,
+    ]);
+}
+
 impl FiniteTest for Portable {
     #[inline(always)]
     fn inputs(
@@ -62,16 +84,21 @@ impl FiniteTest for Portable {
         add_sphere(&mut sums, body1);
         add_sphere(&mut sums, body2);
         add_state(&mut sums, state);
-        sums.add([
-            i.normal_force,
-            i.dt,
-            i.normal_stiffness,
-            i.contact_radius,
-            i.mass1,
-            i.mass2,
-            i.inertia1,
-            i.inertia2,
-        ]);
+        add_input(&mut sums, i);
+        sums.all_finite()
+    }
+
+    #[inline(always)]
+    fn sphere_inputs(
+        self,
+        sphere: &rsl_sphere,
+        i: &rsl_contact_input,
+        state: &rsl_contact_state,
+    ) -> bool {
+        let mut sums = FiniteSums::default();
+        add_sphere(&mut sums, sphere);
+        add_state(&mut sums, state);
+        add_input(&mut sums, i);
         sums.all_finite()
     }
 }
@@ -174,6 +201,26 @@ impl FiniteTest for Avx2 {
                 avx2::sum::<INPUT_DOUBLES>(doubles(input)),
             );
             avx2::all_finite(avx2::add(spheres, rest))
+        }
+    }
+
+    #[inline(always)]
+    fn sphere_inputs(
+        self,
+        sphere: &rsl_sphere,
+        input: &rsl_contact_input,
+        state: &rsl_contact_state,
+    ) -> bool {
+        // SAFETY: as in `inputs`.
+        unsafe {
+            let rest = avx2::add(
+                avx2::sum::<STATE_DOUBLES>(doubles(state)),
+                avx2::sum::<INPUT_DOUBLES>(doubles(input)),
+            );
+            avx2::all_finite(avx2::add(
+                avx2::sum::<SPHERE_DOUBLES>(doubles(sphere)),
+                rest,
+            ))
         }
     }
 }
