@@ -8,9 +8,10 @@
  *             0.25; see Histories). --only: measure only the rows whose name contains
  *             SUBSTRING, or only the row NAME with --only='NAME$' (the baselines and floors
  *             always run; for profiling). --set: only the physics set NAME (full, rolltwist
- *             or sliding, below). --level: the SIMD level of the rows that otherwise run
- *             at the best one (history_, indexed_, contacts_, decompose_; default auto),
- *             e.g. to time the contact-major call of an AVX2 host on an AVX-512 one.
+ *             or sliding, below), or --set=wall for the group wall alone (below). --level:
+ *             the SIMD level of the rows that otherwise run at the best one (history_,
+ *             indexed_, contacts_, decompose_; default auto), e.g. to time the
+ *             contact-major call of an AVX2 host on an AVX-512 one.
  *
  * Workloads (both: particle radii 0.49-0.50, centres jittered by +-1e-3, every listed contact
  * overlapping by 0.007-0.033, normal force k_n * overlap):
@@ -54,6 +55,23 @@
  *              was.
  *   sliding    linear-history sliding only
  *
+ * Wall group (group wall, workload A only, after the three sets): sphere-wall contacts with the
+ * full set's physics and model (LAMMPS_2021: sliding linear + rolling sds + twisting sds).
+ * Every particle of workload A's scene (the sorted particles, in id order) touches one flat
+ * wall of its own, contact c = particle c (a host looping over its particles, as LAMMPS' fix
+ * wall/gran does; one sphere-wall contact per particle, so the group has as many contacts as
+ * particles, about a sixth of CONTACTS). Each wall is a plane below its particle: its outward
+ * unit normal +z (half of the walls, at random) or one fixed tilted unit vector (the other
+ * half; its length computes to exactly 1, so the library's normalisation returns its bits),
+ * its point at the particle's centre less (R - delta) along the normal plus a random
+ * tangential offset, delta drawn in [0.007, 0.033) as the pair overlaps are; all walls move
+ * with the same small velocity (0.02, -0.01, 0.005) and zero angular velocity (rsl_wall, 96 B
+ * per contact). f_n = k_n * overlap, the overlap R - h as the library computes it. Histories as
+ * the pairs' (persistent, previous normal tilted ~1e-3 rad from n = -wall normal, sliding and
+ * rolling springs tangent to it, a random --slip fraction beyond each limit, drawn from a
+ * generator seeded for the group, so the walls are the same whatever ran before). No
+ * [noslip] rows.
+ *
  * Rows (one output line each: "row GROUP NAME NS_PER_CONTACT LOADS_DIFF STATE_DIFF FLAGS"). The
  * rows of a physics set (GROUP) are measured together, after their floor and baseline, so
  * that the same-run ratios compare measurements taken close in time:
@@ -84,6 +102,13 @@
  *   percontact_fill64_c  the same host, filling the sphere pairs of 64 contacts into a small
  *                   buffer first, then calling for each (the stores are done long before the
  *                   library reads them: see docs/batch.md, "Filling the structs")
+ *   percontact_params_c  rsl_contact_step_accumulate per contact with the sliding stiffness
+ *                   and damping passed per contact, as a Hertz-Mindlin host does (its k_t and
+ *                   gamma_t depend on the overlap): in.flags = RSL_INPUT_SLIDING_STIFFNESS |
+ *                   RSL_INPUT_SLIDING_DAMPING, in.sliding_stiffness and in.sliding_damping read
+ *                   from two per-contact arrays (scene kt, gt) holding the model's own KT and
+ *                   the set's gamma_t (GT), so the physics is the baseline's (compared: diff 0
+ *                   expected). Groups with a sliding law only (full, sliding)
  *   batch_<p>_<l>   rsl_batch_step (particle-major), precision p = f64|f32, SIMD level
  *                   l = scalar|avx2|avx512 (each level rsl_batch_simd_support reports)
  *   history_<p>_<l>  rsl_batch_step_history (particle-major, packed histories of
@@ -108,10 +133,10 @@
  *   decompose_<p>_<l>  rsl_batch_decompose (particle-major) at the best level (or --level's):
  *                   the kinematic decomposition only, no laws, no state (group full; not the
  *                   baseline's work)
- *   <row>[noslip]   the baselines, percontact_acc_c and batch_<p>_<auto level> again on the
- *                   no-slip histories (the same springs, those beyond a limit scaled below it:
- *                   no clip taken, the scalar baselines' best case); compared with
- *                   baseline_c[noslip]
+ *   <row>[noslip]   the baselines, percontact_acc_c, percontact_params_c (groups full and
+ *                   sliding) and batch_<p>_<auto level> again on the no-slip histories (the
+ *                   same springs, those beyond a limit scaled below it: no clip taken, the
+ *                   scalar baselines' best case); compared with baseline_c[noslip]
  *   batch_f64_<l>[LAWS]  workload A only: rsl_batch_step of other law sets at each level, f64
  *                   (every model runs the same kernel, which takes its law decisions at run
  *                   time): full/exact, slide+roll/exact, slide+roll/lammps,
@@ -144,6 +169,30 @@
  *                   baseline's physics (compared: diff 0 expected); materials3 and materials10
  *                   do not (not compared, "-"): set against materials1 and batch_f64_<l> they
  *                   give the cost of the per-contact coefficients.
+ * Rows of the group wall (the sphere-wall contacts above; ratios against baseline_wall_c and
+ * floor_wall):
+ *   floor_wall      streams the bytes the per-contact wall call touches, in contact order, no
+ *                   physics: reads the particle (80 B), f_n[c] and the wall (96 B: point,
+ *                   normal, velocity, angular velocity), reads and writes the 112-byte state,
+ *                   read-modify-writes the particle's force and torque (24 B each). Every
+ *                   access is sequential (no prefetch variant: the hardware prefetchers see it)
+ *   baseline_wall_c  hand-written C, inline, one loop, LAMMPS style (as baseline_c: LAMMPS'
+ *                   project-rescale transport with its 1e-10 threshold and its clip, the same
+ *                   lammps_spring and lammps_twist), the full set's physics for a wall as the
+ *                   LAMMPS_2021 preset steps it (src/laws/step.rs, the Partner::Wall arms):
+ *                   n = -wall normal (the wall normal used as it is: unit), h = (x - point) .
+ *                   wall normal, overlap R - h, midplane branch l1 = R - overlap/2 (the torque
+ *                   arm of n x F_t, as LAMMPS' dist_to_contact), rolling radius R (R_eff of a
+ *                   flat wall), sliding velocity with the full radius as arm (the preset's
+ *                   sliding rate; its branch rule stays midplane), written in the library's
+ *                   order: (v + (w x n) l1 - v_wall)_t + (w x n)(R - l1) (LAMMPS' own
+ *                   (v - v_wall)_t + R (w x n) is the same quantity with other roundings, and
+ *                   the same cost to within a multiply-add); rolling rate R (w x n),
+ *                   twisting rate w . n. The wall's angular velocity is zero
+ *                   and the baseline (a translating wall, as LAMMPS' fix wall/gran) does not
+ *                   read it. Its double results equal the library's bit for bit (diff 0).
+ *   percontact_wall_c  rsl_contact_step_wall_accumulate per contact (the library adds the
+ *                   sphere's loads to its force and torque)
  * LOADS_DIFF: max |difference| of the accumulated forces and torques from the set's baseline,
  * relative to the largest baseline force (torque) component; STATE_DIFF: the same for the
  * springs, twisting angle and normal of the states after the call; FLAGS: number of contacts
@@ -174,6 +223,10 @@ typedef struct {
     /* The particles as a host keeps them in its own layout (LAMMPS: x, v, omega, radius in
      * separate arrays), for the percontact_fill rows; NULL elsewhere. */
     double *hx, *hv, *hw, *hr;
+    /* Per-contact sliding stiffness and damping of the percontact_params rows (KT and GT). */
+    double *kt, *gt;
+    /* The group wall's scene: each contact's wall (contact c is particle c); NULL elsewhere. */
+    rsl_wall *walls;
 } scene;
 
 static uint64_t rng_state = 12345;
@@ -425,6 +478,8 @@ static void finish(scene *s) {
     const uint32_t *pairs = s->pairs;
     s->fn = xmalloc(nc * sizeof(double));
     s->kn = xmalloc(nc * sizeof(double));
+    s->kt = xmalloc(nc * sizeof(double));
+    s->gt = xmalloc(nc * sizeof(double));
     s->st0_slip = xcalloc(nc, sizeof *s->st0_slip);
     s->st0_noslip = xcalloc(nc, sizeof *s->st0_noslip);
     s->st0 = s->st0_slip;
@@ -448,6 +503,8 @@ static void finish(scene *s) {
         }
         s->fn[c] = fn;
         s->kn[c] = KN;
+        s->kt[c] = KT;
+        s->gt[c] = GT;
         s->b1[c] = *p1;
         s->b2[c] = *p2;
         /* previous normal tilted by ~1e-3; springs tangent to it */
@@ -800,6 +857,85 @@ static void floor_indexed_prefetch(scene *s) {
     }
 }
 
+/* ---- the group wall: one sphere-wall contact per particle, contact c = particle c ---- */
+
+/* Baseline: the full set's physics for a flat wall as the LAMMPS_2021 preset steps it (see
+ * the header: midplane torque arm, full-radius sliding rate in the library's order, rolling
+ * radius R). The wall normal is unit (the scene's are), so it is used as it is. */
+static inline __attribute__((always_inline)) void wall_body(scene *s, size_t c,
+                                                           rsl_contact_state *st) {
+    const rsl_sphere *a = &s->p[c];
+    const rsl_wall *W = &s->walls[c];
+    double nw[3] = {W->normal.x, W->normal.y, W->normal.z};
+    double n[3] = {-nw[0], -nw[1], -nw[2]};
+    double dx[3] = {a->position.x - W->point.x, a->position.y - W->point.y,
+                    a->position.z - W->point.z};
+    double R = a->radius;
+    double overlap = R - DOT(dx, nw);
+    double l1 = R - overlap * 0.5;
+    double fn = s->fn[c];
+    double w1[3] = {a->angular_velocity.x, a->angular_velocity.y, a->angular_velocity.z};
+    double wxn[3];
+    CROSS(wxn, w1, n);
+    /* relative velocity of the contact points (the wall translates), its tangential part, then
+     * the arm R - l1 that makes the full radius LAMMPS' */
+    double rel[3] = {a->velocity.x + wxn[0] * l1 - W->velocity.x,
+                     a->velocity.y + wxn[1] * l1 - W->velocity.y,
+                     a->velocity.z + wxn[2] * l1 - W->velocity.z};
+    double reln = DOT(rel, n), arm = R - l1;
+    double vs[3], vr[3];
+    for (int k = 0; k < 3; k++) vs[k] = (rel[k] - n[k] * reln) + wxn[k] * arm;
+    for (int k = 0; k < 3; k++) vr[k] = wxn[k] * R;
+    double wtw = DOT(w1, n);
+
+    double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
+    double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
+    double th = st->twisting_angle;
+    double ft[3], fr[3];
+    uint32_t s1, s2, s3;
+    lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
+    lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
+    double mt = lammps_twist(&th, wtw, fn, &s3);
+    double nxft[3], nxfr[3];
+    CROSS(nxft, n, ft);
+    CROSS(nxfr, n, fr);
+    double couple[3];
+    for (int k = 0; k < 3; k++) couple[k] = R * nxfr[k] + mt * n[k];
+    s->f[c].x += ft[0] - fn * n[0], s->f[c].y += ft[1] - fn * n[1];
+    s->f[c].z += ft[2] - fn * n[2];
+    s->t[c].x += l1 * nxft[0] + couple[0];
+    s->t[c].y += l1 * nxft[1] + couple[1];
+    s->t[c].z += l1 * nxft[2] + couple[2];
+    st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
+    st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
+    st->twisting_angle = th;
+    st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
+    st->slip_flags = s1 | s2 << 1 | s3 << 2;
+}
+
+static void baseline_wall(scene *s) {
+    for (size_t c = 0; c < s->nc; c++) wall_body(s, c, &s->st[c]);
+}
+
+/* The floor of the wall rows: the same bytes as the library's call (the whole wall struct). */
+static inline __attribute__((always_inline)) void floor_wall_body(scene *s, size_t c,
+                                                                 rsl_contact_state *st) {
+    const double *a = &s->p[c].position.x, *w = &s->walls[c].point.x;
+    double sa = 0, sw = 0;
+    for (int k = 0; k < 10; k++) sa += a[k];
+    for (int k = 0; k < 12; k++) sw += w[k];
+    double x = (sa - sw) * 1e-30 + s->fn[c] * 1e-30;
+    double *q = &st->sliding_spring.x;
+    for (int k = 0; k < 13; k++) q[k] += x;
+    st->slip_flags ^= 1;
+    s->f[c].x += x, s->f[c].y += x, s->f[c].z += x;
+    s->t[c].x += x, s->t[c].y += x, s->t[c].z += x;
+}
+
+static void floor_wall(scene *s) {
+    for (size_t c = 0; c < s->nc; c++) floor_wall_body(s, c, &s->st[c]);
+}
+
 /* ---- library calls ---- */
 
 static void percontact(scene *s) {
@@ -921,6 +1057,39 @@ static void percontact_acc(scene *s) {
     for (size_t c = 0; c < s->nc; c++) {
         in.normal_force = s->fn[c];
         accumulate_or_die(s, c, &s->p[s->pairs[2 * c]], &s->p[s->pairs[2 * c + 1]], &in);
+    }
+}
+
+/* percontact_acc with the sliding stiffness and damping passed per contact (s->kt, s->gt), as
+ * a Hertz-Mindlin host passes its overlap-dependent k_t and gamma_t: the percontact_params
+ * rows. */
+static void percontact_params(scene *s) {
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.dt = DT;
+    in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
+    for (size_t c = 0; c < s->nc; c++) {
+        in.normal_force = s->fn[c];
+        in.sliding_stiffness = s->kt[c];
+        in.sliding_damping = s->gt[c];
+        accumulate_or_die(s, c, &s->p[s->pairs[2 * c]], &s->p[s->pairs[2 * c + 1]], &in);
+    }
+}
+
+/* The group wall's call: rsl_contact_step_wall_accumulate per sphere-wall contact. */
+static void percontact_wall(scene *s) {
+    rsl_contact_input in;
+    memset(&in, 0, sizeof in);
+    in.dt = DT;
+    for (size_t c = 0; c < s->nc; c++) {
+        in.normal_force = s->fn[c];
+        int32_t status = rsl_contact_step_wall_accumulate(MODEL, &s->p[c], &s->walls[c], &in,
+                                                          &s->st[c], &s->f[c], &s->t[c]);
+        if (status != RSL_OK) {
+            fprintf(stderr, "rsl_contact_step_wall_accumulate failed at contact %zu: %s (%s)\n",
+                    c, rsl_status_str(status), rsl_last_error_message());
+            exit(1);
+        }
     }
 }
 
@@ -1130,20 +1299,27 @@ static void run_pair(scene *s, const char *group, const char *name, const char *
     row(group, label, fmin(tp, tf), compare, s);
 }
 
+/* Prints the fraction of the reference's contacts at each limit (its slip flags). */
+static void print_slips(const scene *s, const char *group, const char *label) {
+    size_t slips[3] = {0, 0, 0};
+    for (size_t c = 0; c < s->nc; c++)
+        for (int b = 0; b < 3; b++) slips[b] += (REF_ST[c].slip_flags >> b) & 1;
+    double nc = (double)s->nc;
+    printf("info %s, %s: contacts at their limit in the step: sliding %.1f%%, "
+           "rolling %.1f%%, twisting %.1f%%\n",
+           group, label, 100.0 * (double)slips[0] / nc, 100.0 * (double)slips[1] / nc,
+           100.0 * (double)slips[2] / nc);
+}
+
 /* Times a set's baseline (run_pair), keeps the results of the loop without prefetches as the
  * reference of the rows that follow (the one with them is compared with it), and prints the
  * fraction of contacts at each limit. */
 static void run_baseline(scene *s, const char *group, const char *suffix, void (*plain)(scene *),
                          void (*prefetch)(scene *), int reps) {
     run_pair(s, group, "baseline_c", suffix, plain, prefetch, reps, 1, keep_reference);
-    size_t slips[3] = {0, 0, 0};
-    for (size_t c = 0; c < s->nc; c++)
-        for (int b = 0; b < 3; b++) slips[b] += (REF_ST[c].slip_flags >> b) & 1;
-    double nc = (double)s->nc;
-    printf("info %s, baseline_c%s: contacts at their limit in the step: sliding %.1f%%, "
-           "rolling %.1f%%, twisting %.1f%%\n",
-           group, suffix, 100.0 * (double)slips[0] / nc, 100.0 * (double)slips[1] / nc,
-           100.0 * (double)slips[2] / nc);
+    char label[64];
+    snprintf(label, sizeof label, "baseline_c%s", suffix);
+    print_slips(s, group, label);
 }
 
 static void check(int32_t status, const char *what) {
@@ -1304,6 +1480,96 @@ static uint32_t *material_indices(const scene *s, unsigned types, size_t *nsets,
     return mat;
 }
 
+/* ---- the group wall's scene ---- */
+
+/* The fixed tilted wall normal: a unit vector whose length computes to exactly 1
+ * (sqrt((x x + y y) + z z), the library's order), so that the library's normalisation
+ * (v / |v|) returns its bits and the baseline may use it as it is. */
+static void tilted_unit(double u[3]) {
+    double v[3] = {0.3, -0.2, 1.0};
+    for (int it = 0; it < 8; it++) {
+        double m = sqrt(DOT(v, v));
+        if (m == 1.0) {
+            for (int k = 0; k < 3; k++) u[k] = v[k];
+            return;
+        }
+        for (int k = 0; k < 3; k++) v[k] /= m;
+    }
+    fprintf(stderr, "no tilted wall normal of length 1\n");
+    exit(1);
+}
+
+/* The group wall's scene from workload A's: its particles (shared), one wall per particle
+ * (contact c = particle c), f_n, histories and accumulators of its own (see the header). The
+ * draws come from the scene generator reseeded for the group (restored after), so the walls
+ * do not depend on what ran before and the other rows do not depend on the walls. */
+static void build_walls(const scene *s, scene *w) {
+    uint64_t saved = rng_state;
+    rng_state = 24680;
+    size_t n = s->np;
+    memset(w, 0, sizeof *w);
+    w->np = w->nc = n;
+    w->p = s->p;
+    w->fn = xmalloc(n * sizeof *w->fn);
+    w->walls = xmalloc(n * sizeof *w->walls);
+    w->st0_slip = xcalloc(n, sizeof *w->st0_slip);
+    w->st0 = w->st0_slip;
+    w->st = xcalloc(n, sizeof *w->st);
+    w->f = xcalloc(n, sizeof *w->f);
+    w->t = xcalloc(n, sizeof *w->t);
+    double tilt[3];
+    tilted_unit(tilt);
+    static const double up[3] = {0.0, 0.0, 1.0};
+    for (size_t c = 0; c < n; c++) {
+        const rsl_sphere *q = &s->p[c];
+        const double *nw = urand() < 0.5 ? up : tilt;
+        double delta = 0.007 + 0.026 * urand();
+        double tg[3];
+        random_tangent(nw[0], nw[1], nw[2], tg);
+        double off = 0.5 * (urand() - 0.5), down = q->radius - delta;
+        rsl_wall *W = &w->walls[c];
+        W->point.x = q->position.x - down * nw[0] + off * tg[0];
+        W->point.y = q->position.y - down * nw[1] + off * tg[1];
+        W->point.z = q->position.z - down * nw[2] + off * tg[2];
+        W->normal.x = nw[0], W->normal.y = nw[1], W->normal.z = nw[2];
+        W->velocity.x = 0.02, W->velocity.y = -0.01, W->velocity.z = 0.005;
+        W->angular_velocity.x = W->angular_velocity.y = W->angular_velocity.z = 0.0;
+        /* the overlap as the library computes it (R - (x - point) . normal) */
+        double dx[3] = {q->position.x - W->point.x, q->position.y - W->point.y,
+                        q->position.z - W->point.z};
+        double fn = KN * (q->radius - DOT(dx, nw));
+        if (!(fn > 0)) {
+            fprintf(stderr, "wall contact %zu does not overlap\n", c);
+            exit(1);
+        }
+        w->fn[c] = fn;
+        /* previous normal tilted by ~1e-3 from n = -wall normal; springs tangent to it */
+        double nx = -nw[0] + 1e-3 * (urand() - 0.5), ny = -nw[1] + 1e-3 * (urand() - 0.5),
+               nz = -nw[2] + 1e-3 * (urand() - 0.5);
+        double nn = sqrt(nx * nx + ny * ny + nz * nz);
+        nx /= nn, ny /= nn, nz /= nn;
+        double ts[3], tr[3];
+        random_tangent(nx, ny, nz, ts);
+        random_tangent(nx, ny, nz, tr);
+        double ks = limit_multiple() * MU * fn / KT, kr = limit_multiple() * MUR * fn / KR;
+        double mtw = limit_multiple();
+        double sign = urand() < 0.5 ? -1.0 : 1.0;
+        rsl_contact_state *st = &w->st0_slip[c];
+        st->previous_normal.x = nx, st->previous_normal.y = ny, st->previous_normal.z = nz;
+        st->sliding_spring.x = ks * ts[0], st->sliding_spring.y = ks * ts[1];
+        st->sliding_spring.z = ks * ts[2];
+        st->rolling_spring.x = kr * tr[0], st->rolling_spring.y = kr * tr[1];
+        st->rolling_spring.z = kr * tr[2];
+        st->twisting_angle = sign * mtw * MUTW * fn / KTW;
+    }
+    rng_state = saved;
+}
+
+static void free_walls(scene *w) {
+    free(w->fn), free(w->walls), free(w->st0_slip), free(w->st), free(w->f), free(w->t);
+    memset(w, 0, sizeof *w);
+}
+
 static const char *LEVEL[4] = {"auto", "scalar", "avx2", "avx512"};
 /* --level=NAME: the SIMD level of the rows that otherwise run at the best one. */
 static uint32_t BEST_LEVEL = RSL_SIMD_AUTO;
@@ -1346,11 +1612,11 @@ int main(int argc, char **argv) {
         }
     }
     int set_ok = !ONLY_SET || strcmp(ONLY_SET, "full") == 0 || strcmp(ONLY_SET, "rolltwist") == 0 ||
-                 strcmp(ONLY_SET, "sliding") == 0;
+                 strcmp(ONLY_SET, "sliding") == 0 || strcmp(ONLY_SET, "wall") == 0;
     if ((workload != 'A' && workload != 'B') || nc == 0 || reps < 1 || !set_ok) {
         fprintf(stderr,
                 "usage: %s [CONTACTS [REPS]] [--workload=A|B] [--slip=F] [--only=SUBSTRING] "
-                "[--set=NAME]\n",
+                "[--set=full|rolltwist|sliding|wall]\n",
                 argv[0]);
         return 2;
     }
@@ -1382,6 +1648,7 @@ int main(int argc, char **argv) {
 
     enum { FULL, ROLLTWIST, SLIDING, NSETS, NEXTRA = 15 };
     const char *set_name[NSETS] = {"full", "rolltwist", "sliding"};
+    const int has_sliding[NSETS] = {1, 0, 1}; /* the sets of the percontact_params rows */
     void (*baseline[NSETS])(scene *) = {baseline_full, baseline_rolltwist, baseline_sliding};
     void (*baseline_prefetch[NSETS])(scene *) = {baseline_full_prefetch, baseline_rolltwist_prefetch,
                                                  baseline_sliding_prefetch};
@@ -1434,7 +1701,8 @@ int main(int argc, char **argv) {
 
     REF_F = xmalloc(s.np * sizeof *REF_F);
     REF_T = xmalloc(s.np * sizeof *REF_T);
-    REF_ST = xmalloc(s.nc * sizeof *REF_ST);
+    /* the group wall has one contact per particle */
+    REF_ST = xmalloc((s.nc > s.np ? s.nc : s.np) * sizeof *REF_ST);
     HIST = xmalloc(s.nc * 13 * sizeof *HIST);
     char name[160];
     for (int set = 0; set < NSETS; set++) {
@@ -1448,6 +1716,8 @@ int main(int argc, char **argv) {
         probe_history_layout();
         if (want("percontact_acc_c"))
             row(g, "percontact_acc_c", timeit(&s, percontact_acc, reps), 1, &s);
+        if (has_sliding[set] && want("percontact_params_c"))
+            row(g, "percontact_params_c", timeit(&s, percontact_params, reps), 1, &s);
         if (want("percontact_c")) row(g, "percontact_c", timeit(&s, percontact, reps), 1, &s);
         if (want("percontact_fill")) {
             host_arrays_alloc(&s);
@@ -1609,6 +1879,8 @@ int main(int argc, char **argv) {
         MODEL = set_model[set];
         if (want("percontact_acc_c"))
             row(g, "percontact_acc_c[noslip]", timeit(&s, percontact_acc, reps), 1, &s);
+        if (has_sliding[set] && want("percontact_params_c"))
+            row(g, "percontact_params_c[noslip]", timeit(&s, percontact_params, reps), 1, &s);
         for (int prec = 0; prec < 2; prec++) {
             const char *p = prec ? "f32" : "f64";
             memset(&OPTS, 0, sizeof OPTS);
@@ -1621,6 +1893,30 @@ int main(int argc, char **argv) {
             row(g, name, t, 1, &s);
         }
         s.st0 = s.st0_slip;
+    }
+    /* the group wall (workload A): the full set's physics on one sphere-wall contact per
+     * particle, against its own floor and baseline */
+    if (workload == 'A' && (!ONLY_SET || strcmp(ONLY_SET, "wall") == 0)) {
+        const char *g = "wall";
+        scene w;
+        build_walls(&s, &w);
+        MODE = PARTICLE_MAJOR;
+        MODEL = set_model[FULL];
+        size_t up = 0;
+        for (size_t c = 0; c < w.nc; c++) up += w.walls[c].normal.z == 1.0;
+        double tilt[3];
+        tilted_unit(tilt);
+        printf("info wall: %zu sphere-wall contacts (one per particle), wall normal +z for "
+               "%.1f%%, (%.6f, %.6f, %.6f) for the others\n",
+               w.nc, 100.0 * (double)up / (double)w.nc, tilt[0], tilt[1], tilt[2]);
+        row(g, "floor_wall", timeit(&w, floor_wall, reps), 0, &w);
+        double t = timeit(&w, baseline_wall, reps);
+        keep_reference(&w);
+        row(g, "baseline_wall_c", t, 1, &w);
+        print_slips(&w, g, "baseline_wall_c");
+        if (want("percontact_wall_c"))
+            row(g, "percontact_wall_c", timeit(&w, percontact_wall, reps), 1, &w);
+        free_walls(&w);
     }
     return 0;
 }

@@ -1,7 +1,8 @@
 //! `cargo bench --bench batch`: run time of the batch kernels against hand-written C baselines
 //! (each the faster of its loop without and with the library's prefetches), the per-contact C
 //! calls and the memory floor, for three physics sets (full, rolltwist, sliding), on two
-//! workloads, out of cache (1,200,000 contacts) and in cache (2,000 contacts).
+//! workloads, out of cache (1,200,000 contacts) and in cache (2,000 contacts), and for
+//! sphere-wall contacts (group wall, workload A: one per particle, the full set's physics).
 //!
 //! Workload A (the headline): a jittered FCC packing whose particles are spatially sorted as a
 //! DEM code keeps them (LAMMPS' atom sort: lexicographic order of small spatial bins), contacts
@@ -192,9 +193,17 @@ fn indexed(name: &str) -> bool {
         .any(|p| name.starts_with(p))
 }
 
+/// Rows of the group `wall` (sphere-wall contacts, workload A), which has its own baseline and
+/// floor: `floor_wall`, `baseline_wall_c`, `percontact_wall_c`.
+fn wall(name: &str) -> bool {
+    name == "floor_wall" || name.ends_with("_wall_c")
+}
+
 /// The baseline a row is divided by: the one measured on the same histories and layout.
 fn reference(name: &str) -> &'static str {
-    if name.ends_with(NOSLIP) {
+    if wall(name) {
+        "baseline_wall_c"
+    } else if name.ends_with(NOSLIP) {
         "baseline_c[noslip]"
     } else if indexed(name) {
         "baseline_c_indexed"
@@ -205,7 +214,9 @@ fn reference(name: &str) -> &'static str {
 
 /// The memory floor a row is divided by: the one of its state layout.
 fn floor_of(name: &str) -> &'static str {
-    if indexed(name) {
+    if wall(name) {
+        "floor_wall"
+    } else if indexed(name) {
         "floor_indexed"
     } else {
         "floor"
@@ -386,7 +397,9 @@ fn main() {
          and the baseline measured on that layout (floor_indexed, baseline_c_indexed). \
          Rows marked [noslip] (\"no slip\" in the summary) run on the same histories with every \
          spring below its limit (no clip taken: the baselines' best case) and are divided by \
-         the baseline on those histories. The rows are described \
+         the baseline on those histories. The group wall (workload A: one sphere-wall contact \
+         per particle, the full set's physics) is divided by its own baseline and floor \
+         (baseline_wall_c, floor_wall). The rows are described \
          at the top of `bench/bench.c`. † different physics from the group's baseline (ratio \
          given for cost only). Diffs: max |difference| from the baseline relative to the \
          largest baseline component (loads: per-particle forces and torques; state: springs, \
