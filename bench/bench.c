@@ -109,6 +109,9 @@
  *                   from two per-contact arrays (scene kt, gt) holding the model's own KT and
  *                   the set's gamma_t (GT), so the physics is the baseline's (compared: diff 0
  *                   expected). Groups with a sliding law only (full, sliding)
+ *   percontact_acc_unchecked_c, percontact_params_unchecked_c  the same two rows through
+ *                   rsl_contact_step_accumulate_unchecked (the step without the tests of the
+ *                   values, for hosts that validated their data)
  *   batch_<p>_<l>   rsl_batch_step (particle-major), precision p = f64|f32, SIMD level
  *                   l = scalar|avx2|avx512 (each level rsl_batch_simd_support reports)
  *   history_<p>_<l>  rsl_batch_step_history (particle-major, packed histories of
@@ -191,6 +194,8 @@
  *                   twisting rate w . n. The wall's angular velocity is zero
  *                   and the baseline (a translating wall, as LAMMPS' fix wall/gran) does not
  *                   read it. Its double results equal the library's bit for bit (diff 0).
+ *   percontact_wall_unchecked_c  the same through rsl_contact_step_wall_accumulate_unchecked
+ *                   (no test of the values)
  *   percontact_wall_c  rsl_contact_step_wall_accumulate per contact (the library adds the
  *                   sphere's loads to its force and torque)
  * LOADS_DIFF: max |difference| of the accumulated forces and torques from the set's baseline,
@@ -993,11 +998,18 @@ static inline void fill_sphere(const scene *s, size_t k, rsl_sphere *b) {
     b->radius = s->hr[k];
 }
 
+/* Which per-contact entry the percontact rows call: rsl_contact_step_accumulate, or its
+ * unchecked form (the *_unchecked_c rows). */
+static int UNCHECKED = 0;
+
 static void accumulate_or_die(const scene *s, size_t c, const rsl_sphere *b1,
                               const rsl_sphere *b2, const rsl_contact_input *in) {
     uint32_t i = s->pairs[2 * c], j = s->pairs[2 * c + 1];
-    int32_t status = rsl_contact_step_accumulate(MODEL, b1, b2, in, &s->st[c], &s->f[i],
-                                                 &s->t[i], &s->f[j], &s->t[j]);
+    int32_t status =
+        UNCHECKED ? rsl_contact_step_accumulate_unchecked(MODEL, b1, b2, in, &s->st[c], &s->f[i],
+                                                          &s->t[i], &s->f[j], &s->t[j])
+                  : rsl_contact_step_accumulate(MODEL, b1, b2, in, &s->st[c], &s->f[i],
+                                                &s->t[i], &s->f[j], &s->t[j]);
     if (status != RSL_OK) {
         fprintf(stderr, "rsl_contact_step_accumulate failed at contact %zu: %s (%s)\n", c,
                 rsl_status_str(status), rsl_last_error_message());
@@ -1083,8 +1095,11 @@ static void percontact_wall(scene *s) {
     in.dt = DT;
     for (size_t c = 0; c < s->nc; c++) {
         in.normal_force = s->fn[c];
-        int32_t status = rsl_contact_step_wall_accumulate(MODEL, &s->p[c], &s->walls[c], &in,
-                                                          &s->st[c], &s->f[c], &s->t[c]);
+        int32_t status =
+            UNCHECKED ? rsl_contact_step_wall_accumulate_unchecked(
+                            MODEL, &s->p[c], &s->walls[c], &in, &s->st[c], &s->f[c], &s->t[c])
+                      : rsl_contact_step_wall_accumulate(MODEL, &s->p[c], &s->walls[c], &in,
+                                                         &s->st[c], &s->f[c], &s->t[c]);
         if (status != RSL_OK) {
             fprintf(stderr, "rsl_contact_step_wall_accumulate failed at contact %zu: %s (%s)\n",
                     c, rsl_status_str(status), rsl_last_error_message());
@@ -1718,6 +1733,12 @@ int main(int argc, char **argv) {
             row(g, "percontact_acc_c", timeit(&s, percontact_acc, reps), 1, &s);
         if (has_sliding[set] && want("percontact_params_c"))
             row(g, "percontact_params_c", timeit(&s, percontact_params, reps), 1, &s);
+        UNCHECKED = 1;
+        if (want("percontact_acc_unchecked_c"))
+            row(g, "percontact_acc_unchecked_c", timeit(&s, percontact_acc, reps), 1, &s);
+        if (has_sliding[set] && want("percontact_params_unchecked_c"))
+            row(g, "percontact_params_unchecked_c", timeit(&s, percontact_params, reps), 1, &s);
+        UNCHECKED = 0;
         if (want("percontact_c")) row(g, "percontact_c", timeit(&s, percontact, reps), 1, &s);
         if (want("percontact_fill")) {
             host_arrays_alloc(&s);
@@ -1916,6 +1937,10 @@ int main(int argc, char **argv) {
         print_slips(&w, g, "baseline_wall_c");
         if (want("percontact_wall_c"))
             row(g, "percontact_wall_c", timeit(&w, percontact_wall, reps), 1, &w);
+        UNCHECKED = 1;
+        if (want("percontact_wall_unchecked_c"))
+            row(g, "percontact_wall_unchecked_c", timeit(&w, percontact_wall, reps), 1, &w);
+        UNCHECKED = 0;
         free_walls(&w);
     }
     return 0;

@@ -194,9 +194,9 @@ fn indexed(name: &str) -> bool {
 }
 
 /// Rows of the group `wall` (sphere-wall contacts, workload A), which has its own baseline and
-/// floor: `floor_wall`, `baseline_wall_c`, `percontact_wall_c`.
+/// floor: `floor_wall`, `baseline_wall_c`, `percontact_wall_c`, `percontact_wall_unchecked_c`.
 fn wall(name: &str) -> bool {
-    name == "floor_wall" || name.ends_with("_wall_c")
+    name.contains("_wall")
 }
 
 /// The baseline a row is divided by: the one measured on the same histories and layout.

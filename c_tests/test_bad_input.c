@@ -1139,6 +1139,34 @@ void test_bad_input_contact_step_accumulate_mirrors_contact_step(void) {
     static _Alignas(16) unsigned char fake[4096];
     memset(fake, PATTERN, sizeof fake);
     ACC_FAILS(rsl_contact_step_accumulate((const rsl_model *)(const void *)fake, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_INVALID_HANDLE, "handle");
+    /* The unchecked entries test their pointers and handle as the checked ones do. */
+    ACC_FAILS(rsl_contact_step_accumulate_unchecked(NULL, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "model");
+    ACC_FAILS(rsl_contact_step_accumulate_unchecked(m, &a, NULL, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "body2");
+    ACC_FAILS(rsl_contact_step_accumulate_unchecked(m, &a, &b, &in, NULL, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_NULL_POINTER, "state");
+    ACC_FAILS(rsl_contact_step_accumulate_unchecked(m, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], MIS(rsl_vec3)), RSL_ERR_MISALIGNED, "torque2");
+    ACC_FAILS(rsl_contact_step_accumulate_unchecked((const rsl_model *)(const void *)fake, &a, &b, &in, &st, &acc[0], &acc[1], &acc[2], &acc[3]), RSL_ERR_INVALID_HANDLE, "handle");
+    ACC_FAILS(rsl_contact_step_wall_accumulate_unchecked(NULL, &s, &w, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "model");
+    ACC_FAILS(rsl_contact_step_wall_accumulate_unchecked(m, &s, NULL, &in, &st, &acc[0], &acc[1]), RSL_ERR_NULL_POINTER, "wall");
+    ACC_FAILS(rsl_contact_step_wall_accumulate_unchecked(m, &s, &w, MIS(rsl_contact_input), &st, &acc[0], &acc[1]), RSL_ERR_MISALIGNED, "misaligned pointer: contact");
+    ACC_FAILS(rsl_contact_step_wall_accumulate_unchecked(m, &s, &w, &in, &st, &acc[0], NULL), RSL_ERR_NULL_POINTER, "torque");
+    ACC_FAILS(rsl_contact_step_wall_accumulate_unchecked((const rsl_model *)(const void *)fake, &s, &w, &in, &st, &acc[0], &acc[1]), RSL_ERR_INVALID_HANDLE, "handle");
+    {
+        rsl_contact_loads out;
+        rsl_contact_state kept_out = st;
+        memset(&out, PATTERN, sizeof out);
+        check_failure(rsl_contact_step_unchecked(m, NULL, &b, &in, &st, &out), RSL_ERR_NULL_POINTER,
+                      "body1", &out, sizeof out, &st, &kept_out, sizeof st, "unchecked NULL body1",
+                      __FILE__, __LINE__);
+        check_failure(rsl_contact_step_unchecked((const rsl_model *)(const void *)fake, &a, &b, &in, &st, &out),
+                      RSL_ERR_INVALID_HANDLE, "handle", &out, sizeof out, &st, &kept_out,
+                      sizeof st, "unchecked handle", __FILE__, __LINE__);
+        CHECK_STATUS(rsl_contact_step_unchecked(m, &a, &b, &in, &st, NULL), RSL_ERR_NULL_POINTER);
+        check_failure(rsl_contact_step_wall_unchecked(m, &s, MIS(rsl_wall), &in, &st, &out),
+                      RSL_ERR_MISALIGNED, "wall", &out, sizeof out, &st, &kept_out, sizeof st,
+                      "unchecked wall mis wall", __FILE__, __LINE__);
+        CHECK_STATUS(rsl_contact_step_wall_unchecked(m, &s, &w, &in, &st, NULL), RSL_ERR_NULL_POINTER);
+        CHECK(memcmp(&st, &kept_out, sizeof st) == 0);
+    }
 #undef ACC_FAILS
     /* nothing was written through the misaligned pointers either */
     unsigned char zeros[sizeof raw];

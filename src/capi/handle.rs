@@ -121,4 +121,20 @@ pub(crate) struct ContactSteps {
     pub(crate) wall_out: WallOutStep,
     /// `rsl_contact_step_wall_accumulate`.
     pub(crate) wall_accumulate: WallAccumulateStep,
+    /// The unchecked entries' steps.
+    pub(crate) unchecked: UncheckedSteps,
+}
+
+/// The steps of the unchecked entries (`rsl_contact_step_unchecked` and the others): the fast
+/// path without the tests of the values.
+#[derive(Clone, Copy)]
+pub(crate) struct UncheckedSteps {
+    /// `rsl_contact_step_unchecked`.
+    pub(crate) out: OutStep,
+    /// `rsl_contact_step_accumulate_unchecked`.
+    pub(crate) accumulate: AccumulateStep,
+    /// `rsl_contact_step_wall_unchecked`.
+    pub(crate) wall_out: WallOutStep,
+    /// `rsl_contact_step_wall_accumulate_unchecked`.
+    pub(crate) wall_accumulate: WallAccumulateStep,
 }

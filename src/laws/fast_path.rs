@@ -308,6 +308,54 @@ pub fn step_wall_if_valid(
     Some((out, next))
 }
 
+/// The step of a sphere pair without any test of its values: [`step_pair_if_valid`]'s geometry
+/// and step for inputs the caller vouches for (the unchecked C entries). For valid inputs its
+/// bits are [`step_pair_if_valid`]'s; for others it computes what the formulas give (NaN,
+/// infinities), without a panic.
+#[inline(always)]
+pub fn step_pair_unchecked(
+    model: &Model,
+    body1: &Sphere<f64>,
+    body2: &Sphere<f64>,
+    input: &StepInput<f64>,
+    state: &ContactState<f64>,
+) -> (StepOutput<f64>, ContactState<f64>) {
+    let g = pair_geometry_unchecked(
+        &body1.position,
+        &body2.position,
+        body1.radius,
+        body2.radius,
+        model.geometry,
+    );
+    let mut next = *state;
+    let out = contact_step_with_geometry(model, g, body1, Partner::Sphere(body2), input, &mut next);
+    (out, next)
+}
+
+/// [`step_pair_unchecked`] for a sphere against a flat wall: [`step_wall_if_valid`]'s
+/// normalisation of the wall normal, geometry and step, without any test.
+#[inline(always)]
+pub fn step_wall_unchecked(
+    model: &Model,
+    sphere: &Sphere<f64>,
+    wall: &Wall<f64>,
+    input: &StepInput<f64>,
+    state: &ContactState<f64>,
+) -> (StepOutput<f64>, ContactState<f64>) {
+    let (normal, _) = plain_unit_vector(&wall.normal);
+    let g = wall_geometry_unchecked(
+        &sphere.position,
+        sphere.radius,
+        &wall.point,
+        &normal,
+        model.geometry,
+    );
+    let wall = Wall { normal, ..*wall };
+    let mut next = *state;
+    let out = contact_step_with_geometry(model, g, sphere, Partner::Wall(&wall), input, &mut next);
+    (out, next)
+}
+
 /// [`step_pair_if_valid`] with the portable tests of the inputs and the results
 /// ([`inputs_finite`], [`step_outputs_finite`]): the step's output and new state, or `None` for
 /// the checked step to take over.
