@@ -8,7 +8,8 @@
  *
  * ABI: 0.3.0 breaks 0.2's: the scene kernels' constants, rsl_batch_scene, RSL_BATCH_GENERIC and
  * rsl_batch_report.scene are gone, and rsl_batch_contact_params gained `material` and `energy`:
- * rebuild against this header. The shared library's SONAME carries the minor version while the
+ * rebuild against this header. 0.3.1 adds the unchecked per-contact entries (compatible with
+ * 0.3.0). The shared library's SONAME carries the minor version while the
  * major is 0 (librollslide.so.0.3), so a program built against 0.2 does not load it.
  */
 
@@ -295,11 +296,11 @@
 #define RSL_VERSION_MINOR 3
 
 // Patch version of the header.
-#define RSL_VERSION_PATCH 0
+#define RSL_VERSION_PATCH 1
 
 // The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
 // PATCH` (0.3.0 is 300): `#if RSL_VERSION_NUMBER >= 300`.
-#define RSL_VERSION_NUMBER 300
+#define RSL_VERSION_NUMBER 301
 
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many

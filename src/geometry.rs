@@ -280,10 +280,10 @@ fn unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> Option<Vec3<T>> {
     Some(scaled / norm(&scaled))
 }
 
-/// The plain `v / |v|` of [`unit_vector`] and whether it is its result: `|v|` finite and > 0
-/// and the quotient of unit length to rounding (false for a NaN anywhere). The per-contact
-/// fast path of a wall takes the quotient only when this says so, and so gets the checked
-/// path's bits.
+/// The plain `v / |v|` of the checked wall geometry's normalisation ([`wall_geometry`]) and
+/// whether it is that normalisation's result: `|v|` finite and > 0 and the quotient of unit
+/// length to rounding (false for a NaN anywhere). The per-contact fast path of a wall takes the
+/// quotient only when this says so, and so gets the checked path's bits.
 #[inline(always)]
 pub fn plain_unit_vector<T: RealField + Copy>(v: &Vec3<T>) -> (Vec3<T>, bool) {
     let len = norm(v);

@@ -257,6 +257,7 @@ pub unsafe extern "C" fn rsl_model_set_materials(
                 FfiError::NullPointer(_) => {
                     FfiError::Core(Error::InvalidArgument(format!("sets[{i}] is NULL")))
                 }
+                FfiError::Misaligned(_) => FfiError::MisalignedElement("sets", i),
                 other => other,
             })?;
             if !same_laws(&m.model, &set.model) {

@@ -21,13 +21,23 @@ use super::model::{
     rsl_model, rsl_model_material_count, rsl_model_set_materials, rsl_model_set_sliding,
     rsl_model_set_twisting, RSL_SLIDING_LINEAR, RSL_TWISTING_SDS,
 };
-use super::status::{RSL_ERR_INVALID_ARGUMENT, RSL_OK};
+use super::status::{RSL_ERR_INVALID_ARGUMENT, RSL_ERR_MISALIGNED, RSL_OK};
 use super::types::{rsl_sphere, rsl_vec3};
 use crate::batch::Simd;
 use crate::laws::model::{
     Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
 };
 use crate::layout::tests::{state_bits, Lcg};
+
+/// The calling thread's last error message.
+fn last_error() -> String {
+    let p = super::status::rsl_last_error_message();
+    // SAFETY: the library returns a valid NUL-terminated string, alive until the thread's next
+    // failing call.
+    unsafe { std::ffi::CStr::from_ptr(p) }
+        .to_string_lossy()
+        .into_owned()
+}
 
 /// A live handle of `model` with this CPU's per-contact steps.
 fn live(model: Model) -> rsl_model {
@@ -505,6 +515,12 @@ fn a_table_takes_sets_of_the_models_laws_only_and_setters_keep_it_for_values() {
     }
     let sets = [good_ptrs[0], std::ptr::null()];
     assert_eq!(set(&mut model, &sets), RSL_ERR_INVALID_ARGUMENT);
+    assert_eq!(count(&model), 3);
+    // A misaligned set: the message names the element, not the model.
+    let misaligned = (good_ptrs[1] as usize + 1) as *const rsl_model;
+    let sets = [good_ptrs[0], good_ptrs[2], misaligned];
+    assert_eq!(set(&mut model, &sets), RSL_ERR_MISALIGNED);
+    assert_eq!(last_error(), "misaligned pointer: sets[2]");
     assert_eq!(count(&model), 3);
     // A setter that changes values keeps the table; one that changes a law removes it.
     // SAFETY: a live handle, used by this thread only.

@@ -40,6 +40,8 @@ pub(crate) enum FfiError {
     Core(Error),
     NullPointer(&'static str),
     Misaligned(&'static str),
+    /// A misaligned pointer inside an array argument: the array's name and the index.
+    MisalignedElement(&'static str, usize),
     Panic(String),
     InvalidHandle,
 }
@@ -62,7 +64,7 @@ impl FfiError {
             FfiError::Core(Error::InvalidParameter(_)) => RSL_ERR_INVALID_PARAMETER,
             FfiError::InvalidHandle => RSL_ERR_INVALID_HANDLE,
             FfiError::NullPointer(_) => RSL_ERR_NULL_POINTER,
-            FfiError::Misaligned(_) => RSL_ERR_MISALIGNED,
+            FfiError::Misaligned(_) | FfiError::MisalignedElement(..) => RSL_ERR_MISALIGNED,
             FfiError::Panic(_) => RSL_ERR_INTERNAL,
         }
     }
@@ -72,6 +74,7 @@ impl FfiError {
             FfiError::Core(e) => e.to_string(),
             FfiError::NullPointer(what) => format!("null pointer: {what}"),
             FfiError::Misaligned(what) => format!("misaligned pointer: {what}"),
+            FfiError::MisalignedElement(what, i) => format!("misaligned pointer: {what}[{i}]"),
             FfiError::Panic(what) => format!("internal error (caught panic): {what}"),
             FfiError::InvalidHandle => {
                 "model handle is not a live rsl_model (freed or never created)".to_string()
