@@ -123,15 +123,15 @@ if [ -n "$out" ]; then
   echo "$out" | head -20 >&2
   exit 1
 fi
-# The per-contact steps (`capi::contact::{out,accumulate}_step_{avx2,portable}`) call nothing
-# but their cold checked path: the physics, the finiteness tests and the panic boundary all
-# inlined (a `guard_status` left out of line took the whole step behind two calls: 1.4-1.7x
-# the time). And the two pair entries reach them by a jump (a tail call with the same
-# arguments), not by a call.
+# The per-contact steps (`capi::contact::[unchecked_][wall_]{out,accumulate}_step_{avx2,portable}`:
+# pair and wall, checked and unchecked) call nothing but their cold checked path: the physics,
+# the finiteness tests and the panic boundary all inlined (a `guard_status` left out of line
+# took the whole step behind two calls: 1.4-1.7x the time). And the eight entries reach them by
+# a jump (a tail call with the same arguments), not by a call.
 steps=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
   /^[0-9a-f]+ <.*>:$/ {
-    step = ($0 ~ /capi::contact::(out|accumulate)_step_(avx2|portable)>/)
-    entry = ($0 ~ /<rsl_contact_step(_accumulate)?>:/)
+    step = ($0 ~ /capi::contact::(unchecked_)?(wall_)?(out|accumulate)_step_(avx2|portable)>/)
+    entry = ($0 ~ /<rsl_contact_step(_wall)?(_accumulate)?(_unchecked)?>:/)
     if (entry) { name = $0; entries++ ; jumps[name] = 0 }
     sname = $0; call = 0; next
   }
@@ -140,11 +140,14 @@ steps=$(objdump -dr --no-show-raw-insn -C "$lib" | awk '
   step && /\tcall/ { call = 1; next }
   step && call && /R_X86_64_/ {
     call = 0
-    if ($NF !~ /contact::(out|accumulate)_step_guarded/) print sname " calls " $NF
+    if ($NF !~ /contact::(wall_)?(out|accumulate)_step_guarded/) print sname " calls " $NF
     next
   }
   { call = 0 }
-  END { for (n in jumps) if (jumps[n] != 1) print n " calls the handle step instead of jumping to it" }' | sort | uniq -c)
+  END {
+    for (n in jumps) if (jumps[n] != 1) print n " calls the handle step instead of jumping to it"
+    if (entries != 8) print entries " per-contact entries found, 8 expected"
+  }' | sort | uniq -c)
 if [ -n "$steps" ]; then
   echo "check_kernels: a per-contact step is not whole (see the script):" >&2
   echo "$steps" | head -20 >&2
@@ -152,4 +155,4 @@ if [ -n "$steps" ]; then
 fi
 echo "check_kernels: $kernels x86 kernel symbols, none calls out of line into the physics or the intrinsics"
 echo "check_kernels: instances per kernel: $(echo "$families" | awk '{printf "%s%s %s", sep, $2, $3; sep = ", "}')"
-echo "check_kernels: the per-contact steps call only their checked path; both pair entries jump to them"
+echo "check_kernels: the per-contact steps call only their checked path; the eight entries jump to them"
