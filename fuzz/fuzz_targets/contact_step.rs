@@ -1,6 +1,7 @@
 //! rsl_contact_step: a model from the setters, an arbitrary (or fresh) state, then a few steps
 //! of arbitrary spheres and inputs. Each step also goes through rsl_contact_step_accumulate,
-//! which must give the same status and state and add exactly the returned loads.
+//! which must give the same status and state and add exactly the returned loads, and through
+//! rsl_contact_step_unchecked, which must give the same bits wherever rsl_contact_step succeeds.
 #![no_main]
 #[path = "common.rs"]
 mod common;
@@ -51,6 +52,18 @@ fuzz_target!(|data: &[u8]| {
             add(&mut expected[3], &out.torque2, 1.0);
         }
         assert_eq!(bytes_of(&acc), bytes_of(&expected), "accumulated loads");
+        // The unchecked entry from the same state: the checked entry's bits where that accepts
+        // the input; elsewhere any status, and no crash.
+        let mut unchecked_state = before;
+        let mut unchecked_out: rsl_contact_loads = common::pattern();
+        let s_unchecked = unsafe {
+            rsl_contact_step_unchecked(m, &s1, &s2, &input, &mut unchecked_state, &mut unchecked_out)
+        };
+        if s == 0 {
+            assert_eq!(s_unchecked, 0, "rsl_contact_step_unchecked's status");
+            assert_eq!(bytes_of(&unchecked_state), bytes_of(&state), "unchecked state");
+            assert_eq!(bytes_of(&unchecked_out), bytes_of(&out), "unchecked loads");
+        }
         if b.is_empty() {
             break;
         }
