@@ -233,15 +233,66 @@ pub fn step_outputs_finite(
     sums.all_finite()
 }
 
+/// The geometry of a pair step, from the formula the checked step's `pair_geometry` wraps.
+#[inline(always)]
+fn geometry_of_pair(
+    model: &Model,
+    body1: &Sphere<f64>,
+    body2: &Sphere<f64>,
+) -> ContactGeometry<f64> {
+    pair_geometry_unchecked(
+        &body1.position,
+        &body2.position,
+        body1.radius,
+        body2.radius,
+        model.geometry,
+    )
+}
+
+/// The geometry of a sphere-wall step and the wall with its unit normal, normalised as the
+/// checked step does it where the plain quotient is accurate (the flag: see
+/// [`plain_unit_vector`]).
+#[inline(always)]
+fn geometry_of_wall(
+    model: &Model,
+    sphere: &Sphere<f64>,
+    wall: &Wall<f64>,
+) -> (ContactGeometry<f64>, Wall<f64>, bool) {
+    let (normal, accurate) = plain_unit_vector(&wall.normal);
+    let g = wall_geometry_unchecked(
+        &sphere.position,
+        sphere.radius,
+        &wall.point,
+        &normal,
+        model.geometry,
+    );
+    (g, Wall { normal, ..*wall }, accurate)
+}
+
+/// The step for geometry `g` of `body1` and `body2`, on a copy of `state`: its output and the
+/// new state.
+#[inline(always)]
+fn step_with(
+    model: &Model,
+    g: ContactGeometry<f64>,
+    body1: &Sphere<f64>,
+    body2: Partner<'_, f64>,
+    input: &StepInput<f64>,
+    state: &ContactState<f64>,
+) -> (StepOutput<f64>, ContactState<f64>) {
+    let mut next = *state;
+    let out = contact_step_with_geometry(model, g, body1, body2, input, &mut next);
+    (out, next)
+}
+
 /// The fast path before its output test: the step's output and the new state when the inputs
 /// pass the quick test, `None` otherwise. `inputs_finite` is the caller's [`inputs_finite`] (or
 /// the same test done on its own layout of the values). The caller must then test the results
 /// ([`step_outputs_finite`]) and, on `None` or a non-finite result, run the checked step, which
 /// gives the error (or, for the few inputs the quick test is stricter about, the result).
 /// `input` must be neither the setup pass nor a bond, and its per-contact values in range
-/// ([`overrides_in_range`]). Nothing here is
-/// passed by reference to a function that is not inlined, so the compiler keeps the inputs in
-/// registers.
+/// ([`overrides_in_range`]). Nothing here is passed by reference to a function that is not
+/// inlined, so the compiler keeps the inputs in registers.
 #[inline(always)]
 pub fn step_pair_if_valid(
     model: &Model,
@@ -252,19 +303,18 @@ pub fn step_pair_if_valid(
     inputs_finite: bool,
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
     debug_assert!(unbonded_step(input) && overrides_in_range(input));
-    let g = pair_geometry_unchecked(
-        &body1.position,
-        &body2.position,
-        body1.radius,
-        body2.radius,
-        model.geometry,
-    );
+    let g = geometry_of_pair(model, body1, body2);
     if !(inputs_finite & inputs_in_range(model, body1, body2, &g, input)) {
         return None;
     }
-    let mut next = *state;
-    let out = contact_step_with_geometry(model, g, body1, Partner::Sphere(body2), input, &mut next);
-    Some((out, next))
+    Some(step_with(
+        model,
+        g,
+        body1,
+        Partner::Sphere(body2),
+        input,
+        state,
+    ))
 }
 
 /// [`step_pair_if_valid`] for a sphere (body 1) against a flat wall: the step's output and the
@@ -285,14 +335,7 @@ pub fn step_wall_if_valid(
     inputs_finite: bool,
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
     debug_assert!(unbonded_step(input) && overrides_in_range(input));
-    let (normal, unit) = plain_unit_vector(&wall.normal);
-    let g = wall_geometry_unchecked(
-        &sphere.position,
-        sphere.radius,
-        &wall.point,
-        &normal,
-        model.geometry,
-    );
+    let (g, wall, unit) = geometry_of_wall(model, sphere, wall);
     let ok = inputs_finite
         & unit
         & (sphere.radius > 0.0)
@@ -302,10 +345,14 @@ pub fn step_wall_if_valid(
     if !ok {
         return None;
     }
-    let wall = Wall { normal, ..*wall };
-    let mut next = *state;
-    let out = contact_step_with_geometry(model, g, sphere, Partner::Wall(&wall), input, &mut next);
-    Some((out, next))
+    Some(step_with(
+        model,
+        g,
+        sphere,
+        Partner::Wall(&wall),
+        input,
+        state,
+    ))
 }
 
 /// The step of a sphere pair without any test of its values: [`step_pair_if_valid`]'s geometry
@@ -320,16 +367,8 @@ pub fn step_pair_unchecked(
     input: &StepInput<f64>,
     state: &ContactState<f64>,
 ) -> (StepOutput<f64>, ContactState<f64>) {
-    let g = pair_geometry_unchecked(
-        &body1.position,
-        &body2.position,
-        body1.radius,
-        body2.radius,
-        model.geometry,
-    );
-    let mut next = *state;
-    let out = contact_step_with_geometry(model, g, body1, Partner::Sphere(body2), input, &mut next);
-    (out, next)
+    let g = geometry_of_pair(model, body1, body2);
+    step_with(model, g, body1, Partner::Sphere(body2), input, state)
 }
 
 /// [`step_pair_unchecked`] for a sphere against a flat wall: [`step_wall_if_valid`]'s
@@ -342,18 +381,8 @@ pub fn step_wall_unchecked(
     input: &StepInput<f64>,
     state: &ContactState<f64>,
 ) -> (StepOutput<f64>, ContactState<f64>) {
-    let (normal, _) = plain_unit_vector(&wall.normal);
-    let g = wall_geometry_unchecked(
-        &sphere.position,
-        sphere.radius,
-        &wall.point,
-        &normal,
-        model.geometry,
-    );
-    let wall = Wall { normal, ..*wall };
-    let mut next = *state;
-    let out = contact_step_with_geometry(model, g, sphere, Partner::Wall(&wall), input, &mut next);
-    (out, next)
+    let (g, wall, _) = geometry_of_wall(model, sphere, wall);
+    step_with(model, g, sphere, Partner::Wall(&wall), input, state)
 }
 
 /// [`step_pair_if_valid`] with the portable tests of the inputs and the results
