@@ -674,6 +674,35 @@ static inline __attribute__((always_inline)) void prefetch_contact(const scene *
         }                                                                            \
     }
 
+/* The full set's laws on one contact as LAMMPS steps them, from its normal n, sliding and
+ * rolling velocities vs and vr, twisting rate wtw, normal force fn and rolling radius rr: the
+ * sliding force ft, n x ft and the couple (rolling and twisting moments) on body 1, and the
+ * new state (springs, twisting angle, normal, slip flags) written to st. Shared by the pair and
+ * wall baselines. */
+static inline __attribute__((always_inline)) void full_laws(rsl_contact_state *st,
+                                                           const double n[3], const double vs[3],
+                                                           const double vr[3], double wtw,
+                                                           double fn, double rr, double ft[3],
+                                                           double nxft[3], double couple[3]) {
+    double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
+    double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
+    double th = st->twisting_angle;
+    double fr[3];
+    uint32_t s1, s2, s3;
+    lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
+    lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
+    double mt = lammps_twist(&th, wtw, fn, &s3);
+    double nxfr[3];
+    CROSS(nxft, n, ft);
+    CROSS(nxfr, n, fr);
+    for (int k = 0; k < 3; k++) couple[k] = rr * nxfr[k] + mt * n[k];
+    st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
+    st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
+    st->twisting_angle = th;
+    st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
+    st->slip_flags = s1 | s2 << 1 | s3 << 2;
+}
+
 /* full: linear history sliding + rolling sds + twisting sds */
 static inline __attribute__((always_inline)) void full_body(scene *s, size_t c,
                                                                rsl_contact_state *st) {
@@ -704,19 +733,8 @@ static inline __attribute__((always_inline)) void full_body(scene *s, size_t c,
     for (int k = 0; k < 3; k++) vr[k] *= reff;
     double wtw = DOT(dw, n);
 
-    double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
-    double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
-    double th = st->twisting_angle;
-    double ft[3], fr[3];
-    uint32_t s1, s2, s3;
-    lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
-    lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
-    double mt = lammps_twist(&th, wtw, fn, &s3);
-    double nxft[3], nxfr[3];
-    CROSS(nxft, n, ft);
-    CROSS(nxfr, n, fr);
-    double couple[3];
-    for (int k = 0; k < 3; k++) couple[k] = reff * nxfr[k] + mt * n[k];
+    double ft[3], nxft[3], couple[3];
+    full_laws(st, n, vs, vr, wtw, fn, reff, ft, nxft, couple);
     double f1[3] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2]};
     s->f[i].x += f1[0], s->f[i].y += f1[1], s->f[i].z += f1[2];
     s->f[j].x -= f1[0], s->f[j].y -= f1[1], s->f[j].z -= f1[2];
@@ -726,11 +744,6 @@ static inline __attribute__((always_inline)) void full_body(scene *s, size_t c,
     s->t[j].x += l2 * nxft[0] - couple[0];
     s->t[j].y += l2 * nxft[1] - couple[1];
     s->t[j].z += l2 * nxft[2] - couple[2];
-    st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
-    st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
-    st->twisting_angle = th;
-    st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
-    st->slip_flags = s1 | s2 << 1 | s3 << 2;
 }
 BASELINE_LOOPS(full)
 
@@ -893,29 +906,13 @@ static inline __attribute__((always_inline)) void wall_body(scene *s, size_t c,
     for (int k = 0; k < 3; k++) vr[k] = wxn[k] * R;
     double wtw = DOT(w1, n);
 
-    double xs[3] = {st->sliding_spring.x, st->sliding_spring.y, st->sliding_spring.z};
-    double xr[3] = {st->rolling_spring.x, st->rolling_spring.y, st->rolling_spring.z};
-    double th = st->twisting_angle;
-    double ft[3], fr[3];
-    uint32_t s1, s2, s3;
-    lammps_spring(xs, n, vs, KT, GT, MU * fn, ft, &s1);
-    lammps_spring(xr, n, vr, KR, GR, MUR * fn, fr, &s2);
-    double mt = lammps_twist(&th, wtw, fn, &s3);
-    double nxft[3], nxfr[3];
-    CROSS(nxft, n, ft);
-    CROSS(nxfr, n, fr);
-    double couple[3];
-    for (int k = 0; k < 3; k++) couple[k] = R * nxfr[k] + mt * n[k];
+    double ft[3], nxft[3], couple[3];
+    full_laws(st, n, vs, vr, wtw, fn, R, ft, nxft, couple);
     s->f[c].x += ft[0] - fn * n[0], s->f[c].y += ft[1] - fn * n[1];
     s->f[c].z += ft[2] - fn * n[2];
     s->t[c].x += l1 * nxft[0] + couple[0];
     s->t[c].y += l1 * nxft[1] + couple[1];
     s->t[c].z += l1 * nxft[2] + couple[2];
-    st->sliding_spring.x = xs[0], st->sliding_spring.y = xs[1], st->sliding_spring.z = xs[2];
-    st->rolling_spring.x = xr[0], st->rolling_spring.y = xr[1], st->rolling_spring.z = xr[2];
-    st->twisting_angle = th;
-    st->previous_normal.x = n[0], st->previous_normal.y = n[1], st->previous_normal.z = n[2];
-    st->slip_flags = s1 | s2 << 1 | s3 << 2;
 }
 
 static void baseline_wall(scene *s) {

@@ -5,7 +5,10 @@
 pub use super::types::{rsl_contact_energy, rsl_contact_loads};
 pub use crate::layout::{rsl_contact_input, rsl_contact_state};
 
-use super::handle::{live_model, rsl_model, ContactSteps, UncheckedSteps};
+use super::handle::{
+    live_model, rsl_model, AccumulateStep, ContactSteps, OutStep, UncheckedSteps,
+    WallAccumulateStep, WallOutStep,
+};
 use super::status::FfiError;
 use super::types::{rsl_sphere, rsl_vec3, rsl_wall};
 use super::{checked_pointer, guard, guard_status, input, output};
@@ -1071,6 +1074,27 @@ pub unsafe extern "C" fn rsl_contact_step(
     state: *mut rsl_contact_state,
     out: *mut rsl_contact_loads,
 ) -> i32 {
+    // SAFETY: forwarded contract.
+    unsafe { enter_out(|s| s.out, model, body1, body2, contact, state, out) }
+}
+
+/// The body of `rsl_contact_step` and `rsl_contact_step_unchecked`: every pointer tested at once
+/// (non-NULL, 8-aligned) and the handle live, then a jump to the handle's step that `step`
+/// picks (a tail call with the entry's own arguments: no frame, no copy); otherwise the
+/// argument at fault reported ([`out_step_reporting`]).
+///
+/// # Safety
+/// As `rsl_contact_step`.
+#[inline(always)]
+unsafe fn enter_out(
+    step: impl FnOnce(&ContactSteps) -> OutStep,
+    model: *const rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    out: *mut rsl_contact_loads,
+) -> i32 {
     let pointers_ok = all_set_and_aligned(&[
         model as usize,
         body1 as usize,
@@ -1084,12 +1108,126 @@ pub unsafe extern "C" fn rsl_contact_step(
     if pointers_ok && unsafe { (*model).is_live() } {
         // SAFETY: the handle's step needs every pointer non-NULL and aligned and a live handle
         // (both tested just above), the rest is this function's contract; it is an AVX2 build
-        // only when the CPU has AVX2 and FMA (`contact_steps`). A call in tail position with
-        // the same arguments: a jump.
-        return unsafe { ((*model).steps.out)(model, body1, body2, contact, state, out) };
+        // only when the CPU has AVX2 and FMA (`contact_steps`).
+        return unsafe { step(&(*model).steps)(model, body1, body2, contact, state, out) };
     }
     // SAFETY: forwarded contract.
     unsafe { out_step_reporting(model, body1, body2, contact, state, out) }
+}
+
+/// [`enter_out`] for `rsl_contact_step_accumulate` and its unchecked form.
+///
+/// # Safety
+/// As `rsl_contact_step_accumulate`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn enter_accumulate(
+    step: impl FnOnce(&ContactSteps) -> AccumulateStep,
+    model: *const rsl_model,
+    body1: *const rsl_sphere,
+    body2: *const rsl_sphere,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    force1: *mut rsl_vec3,
+    torque1: *mut rsl_vec3,
+    force2: *mut rsl_vec3,
+    torque2: *mut rsl_vec3,
+) -> i32 {
+    let pointers_ok = all_set_and_aligned(&[
+        model as usize,
+        body1 as usize,
+        body2 as usize,
+        contact as usize,
+        state as usize,
+        force1 as usize,
+        torque1 as usize,
+        force2 as usize,
+        torque2 as usize,
+    ]);
+    // SAFETY: as in `enter_out`.
+    if pointers_ok && unsafe { (*model).is_live() } {
+        // SAFETY: as in `enter_out`; the accumulators are non-NULL and aligned (tested just
+        // above), valid and not overlapping the inputs or the state by this function's contract
+        // (they stay raw pointers: they may alias each other).
+        return unsafe {
+            step(&(*model).steps)(
+                model, body1, body2, contact, state, force1, torque1, force2, torque2,
+            )
+        };
+    }
+    // SAFETY: forwarded contract.
+    unsafe {
+        accumulate_step_reporting(
+            model, body1, body2, contact, state, force1, torque1, force2, torque2,
+        )
+    }
+}
+
+/// [`enter_out`] for `rsl_contact_step_wall` and its unchecked form.
+///
+/// # Safety
+/// As `rsl_contact_step_wall`.
+#[inline(always)]
+unsafe fn enter_wall_out(
+    step: impl FnOnce(&ContactSteps) -> WallOutStep,
+    model: *const rsl_model,
+    sphere: *const rsl_sphere,
+    wall: *const rsl_wall,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    out: *mut rsl_contact_loads,
+) -> i32 {
+    let pointers_ok = all_set_and_aligned(&[
+        model as usize,
+        sphere as usize,
+        wall as usize,
+        contact as usize,
+        state as usize,
+        out as usize,
+    ]);
+    // SAFETY: as in `enter_out`.
+    if pointers_ok && unsafe { (*model).is_live() } {
+        // SAFETY: as in `enter_out`, with the wall for body 2.
+        return unsafe { step(&(*model).steps)(model, sphere, wall, contact, state, out) };
+    }
+    // SAFETY: forwarded contract.
+    unsafe { wall_out_step_reporting(model, sphere, wall, contact, state, out) }
+}
+
+/// [`enter_accumulate`] for `rsl_contact_step_wall_accumulate` and its unchecked form.
+///
+/// # Safety
+/// As `rsl_contact_step_wall_accumulate`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn enter_wall_accumulate(
+    step: impl FnOnce(&ContactSteps) -> WallAccumulateStep,
+    model: *const rsl_model,
+    sphere: *const rsl_sphere,
+    wall: *const rsl_wall,
+    contact: *const rsl_contact_input,
+    state: *mut rsl_contact_state,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+) -> i32 {
+    let pointers_ok = all_set_and_aligned(&[
+        model as usize,
+        sphere as usize,
+        wall as usize,
+        contact as usize,
+        state as usize,
+        force as usize,
+        torque as usize,
+    ]);
+    // SAFETY: as in `enter_out`.
+    if pointers_ok && unsafe { (*model).is_live() } {
+        // SAFETY: as in `enter_accumulate`, with the wall for body 2.
+        return unsafe {
+            step(&(*model).steps)(model, sphere, wall, contact, state, force, torque)
+        };
+    }
+    // SAFETY: forwarded contract.
+    unsafe { wall_accumulate_step_reporting(model, sphere, wall, contact, state, force, torque) }
 }
 
 /// `rsl_contact_step` for arguments its fast entry did not take: [`pair_step_reporting`]
@@ -1217,32 +1355,19 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate(
     force2: *mut rsl_vec3,
     torque2: *mut rsl_vec3,
 ) -> i32 {
-    let pointers_ok = all_set_and_aligned(&[
-        model as usize,
-        body1 as usize,
-        body2 as usize,
-        contact as usize,
-        state as usize,
-        force1 as usize,
-        torque1 as usize,
-        force2 as usize,
-        torque2 as usize,
-    ]);
-    // SAFETY: as in `rsl_contact_step`.
-    if pointers_ok && unsafe { (*model).is_live() } {
-        // SAFETY: as in `rsl_contact_step`; the accumulators are non-NULL and aligned (tested
-        // just above), valid and not overlapping the inputs or the state by this function's
-        // contract (they stay raw pointers: they may alias each other).
-        return unsafe {
-            ((*model).steps.accumulate)(
-                model, body1, body2, contact, state, force1, torque1, force2, torque2,
-            )
-        };
-    }
     // SAFETY: forwarded contract.
     unsafe {
-        accumulate_step_reporting(
-            model, body1, body2, contact, state, force1, torque1, force2, torque2,
+        enter_accumulate(
+            |s| s.accumulate,
+            model,
+            body1,
+            body2,
+            contact,
+            state,
+            force1,
+            torque1,
+            force2,
+            torque2,
         )
     }
 }
@@ -1302,21 +1427,8 @@ pub unsafe extern "C" fn rsl_contact_step_wall(
     state: *mut rsl_contact_state,
     out: *mut rsl_contact_loads,
 ) -> i32 {
-    let pointers_ok = all_set_and_aligned(&[
-        model as usize,
-        sphere as usize,
-        wall as usize,
-        contact as usize,
-        state as usize,
-        out as usize,
-    ]);
-    // SAFETY: as in `rsl_contact_step`.
-    if pointers_ok && unsafe { (*model).is_live() } {
-        // SAFETY: as in `rsl_contact_step`, with the wall for body 2.
-        return unsafe { ((*model).steps.wall_out)(model, sphere, wall, contact, state, out) };
-    }
     // SAFETY: forwarded contract.
-    unsafe { wall_out_step_reporting(model, sphere, wall, contact, state, out) }
+    unsafe { enter_wall_out(|s| s.wall_out, model, sphere, wall, contact, state, out) }
 }
 
 /// `rsl_contact_step_wall` for arguments its fast entry did not take: [`wall_step_reporting`]
@@ -1392,24 +1504,19 @@ pub unsafe extern "C" fn rsl_contact_step_wall_accumulate(
     force: *mut rsl_vec3,
     torque: *mut rsl_vec3,
 ) -> i32 {
-    let pointers_ok = all_set_and_aligned(&[
-        model as usize,
-        sphere as usize,
-        wall as usize,
-        contact as usize,
-        state as usize,
-        force as usize,
-        torque as usize,
-    ]);
-    // SAFETY: as in `rsl_contact_step`.
-    if pointers_ok && unsafe { (*model).is_live() } {
-        // SAFETY: as in `rsl_contact_step_accumulate`, with the wall for body 2.
-        return unsafe {
-            ((*model).steps.wall_accumulate)(model, sphere, wall, contact, state, force, torque)
-        };
-    }
     // SAFETY: forwarded contract.
-    unsafe { wall_accumulate_step_reporting(model, sphere, wall, contact, state, force, torque) }
+    unsafe {
+        enter_wall_accumulate(
+            |s| s.wall_accumulate,
+            model,
+            sphere,
+            wall,
+            contact,
+            state,
+            force,
+            torque,
+        )
+    }
 }
 
 /// `rsl_contact_step_wall_accumulate` for arguments its fast entry did not take:
@@ -1465,21 +1572,18 @@ pub unsafe extern "C" fn rsl_contact_step_unchecked(
     state: *mut rsl_contact_state,
     out: *mut rsl_contact_loads,
 ) -> i32 {
-    let pointers_ok = all_set_and_aligned(&[
-        model as usize,
-        body1 as usize,
-        body2 as usize,
-        contact as usize,
-        state as usize,
-        out as usize,
-    ]);
-    // SAFETY: as in `rsl_contact_step`.
-    if pointers_ok && unsafe { (*model).is_live() } {
-        // SAFETY: as in `rsl_contact_step`.
-        return unsafe { ((*model).steps.unchecked.out)(model, body1, body2, contact, state, out) };
-    }
     // SAFETY: forwarded contract.
-    unsafe { out_step_reporting(model, body1, body2, contact, state, out) }
+    unsafe {
+        enter_out(
+            |s| s.unchecked.out,
+            model,
+            body1,
+            body2,
+            contact,
+            state,
+            out,
+        )
+    }
 }
 
 /// `rsl_contact_step_accumulate` without the tests of the values, as
@@ -1501,30 +1605,19 @@ pub unsafe extern "C" fn rsl_contact_step_accumulate_unchecked(
     force2: *mut rsl_vec3,
     torque2: *mut rsl_vec3,
 ) -> i32 {
-    let pointers_ok = all_set_and_aligned(&[
-        model as usize,
-        body1 as usize,
-        body2 as usize,
-        contact as usize,
-        state as usize,
-        force1 as usize,
-        torque1 as usize,
-        force2 as usize,
-        torque2 as usize,
-    ]);
-    // SAFETY: as in `rsl_contact_step`.
-    if pointers_ok && unsafe { (*model).is_live() } {
-        // SAFETY: as in `rsl_contact_step_accumulate`.
-        return unsafe {
-            ((*model).steps.unchecked.accumulate)(
-                model, body1, body2, contact, state, force1, torque1, force2, torque2,
-            )
-        };
-    }
     // SAFETY: forwarded contract.
     unsafe {
-        accumulate_step_reporting(
-            model, body1, body2, contact, state, force1, torque1, force2, torque2,
+        enter_accumulate(
+            |s| s.unchecked.accumulate,
+            model,
+            body1,
+            body2,
+            contact,
+            state,
+            force1,
+            torque1,
+            force2,
+            torque2,
         )
     }
 }
@@ -1544,23 +1637,18 @@ pub unsafe extern "C" fn rsl_contact_step_wall_unchecked(
     state: *mut rsl_contact_state,
     out: *mut rsl_contact_loads,
 ) -> i32 {
-    let pointers_ok = all_set_and_aligned(&[
-        model as usize,
-        sphere as usize,
-        wall as usize,
-        contact as usize,
-        state as usize,
-        out as usize,
-    ]);
-    // SAFETY: as in `rsl_contact_step`.
-    if pointers_ok && unsafe { (*model).is_live() } {
-        // SAFETY: as in `rsl_contact_step_wall`.
-        return unsafe {
-            ((*model).steps.unchecked.wall_out)(model, sphere, wall, contact, state, out)
-        };
-    }
     // SAFETY: forwarded contract.
-    unsafe { wall_out_step_reporting(model, sphere, wall, contact, state, out) }
+    unsafe {
+        enter_wall_out(
+            |s| s.unchecked.wall_out,
+            model,
+            sphere,
+            wall,
+            contact,
+            state,
+            out,
+        )
+    }
 }
 
 /// `rsl_contact_step_wall_accumulate` without the tests of the values, as
@@ -1578,26 +1666,19 @@ pub unsafe extern "C" fn rsl_contact_step_wall_accumulate_unchecked(
     force: *mut rsl_vec3,
     torque: *mut rsl_vec3,
 ) -> i32 {
-    let pointers_ok = all_set_and_aligned(&[
-        model as usize,
-        sphere as usize,
-        wall as usize,
-        contact as usize,
-        state as usize,
-        force as usize,
-        torque as usize,
-    ]);
-    // SAFETY: as in `rsl_contact_step`.
-    if pointers_ok && unsafe { (*model).is_live() } {
-        // SAFETY: as in `rsl_contact_step_wall_accumulate`.
-        return unsafe {
-            ((*model).steps.unchecked.wall_accumulate)(
-                model, sphere, wall, contact, state, force, torque,
-            )
-        };
-    }
     // SAFETY: forwarded contract.
-    unsafe { wall_accumulate_step_reporting(model, sphere, wall, contact, state, force, torque) }
+    unsafe {
+        enter_wall_accumulate(
+            |s| s.unchecked.wall_accumulate,
+            model,
+            sphere,
+            wall,
+            contact,
+            state,
+            force,
+            torque,
+        )
+    }
 }
 
 /// Critical time step of velocity Verlet for a rotational spring-dashpot:
