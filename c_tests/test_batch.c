@@ -754,3 +754,150 @@ void test_batch_step_indexed(void) {
                  RSL_OK);
     rsl_model_free(m);
 }
+
+/* Sphere-wall contacts of NW particles: a floor (normal +z, length 2: any non-zero length is
+ * normalised), a moving tilted wall, and a turning wall; particle k touches wall k % 3, and
+ * particles 1 and 4 the floor too. */
+#define NW 6
+#define NWC 8
+static void wall_scene(rsl_sphere p[NW], uint32_t sph[NWC], rsl_wall w[NWC], double fn[NWC]) {
+    for (int k = 0; k < NW; k++) {
+        memset(&p[k], 0, sizeof p[k]);
+        p[k].position = rsl_test_vec(1.5 * k, 0.2 * k, 0.49);
+        p[k].velocity = rsl_test_vec(0.1 * k, -0.05, 0.02 * k);
+        p[k].angular_velocity = rsl_test_vec(0.3 - 0.1 * k, 0.2, -0.4);
+        p[k].radius = 0.5;
+    }
+    int c = 0;
+    for (int k = 0; k < NW; k++) {
+        const int kinds[2] = {k % 3, 0};
+        for (int a = 0; a < (k == 1 || k == 4 ? 2 : 1); a++) {
+            const int kind = kinds[a];
+            rsl_wall *W = &w[c];
+            memset(W, 0, sizeof *W);
+            const rsl_vec3 x = p[k].position;
+            if (kind == 0) { /* the floor z = 0 */
+                W->point = rsl_test_vec(x.x + 0.1, x.y - 0.2, 0.0);
+                W->normal = rsl_test_vec(0.0, 0.0, 2.0);
+            } else { /* a wall through the point 0.48 from the centre along -u */
+                const double u[3] = {kind == 1 ? 0.6 : 0.0, kind == 1 ? 0.0 : -0.6, 0.8};
+                W->point = rsl_test_vec(x.x - 0.48 * u[0], x.y - 0.48 * u[1], x.z - 0.48 * u[2]);
+                W->normal = rsl_test_vec(u[0], u[1], u[2]);
+                W->velocity = rsl_test_vec(0.05, 0.0, -0.01);
+                if (kind == 2) W->angular_velocity = rsl_test_vec(0.0, 0.0, 0.7);
+            }
+            sph[c] = (uint32_t)k;
+            fn[c] = (c == 3) ? -2.0 : 5.0 + c; /* one tensile contact */
+            c++;
+        }
+    }
+    CHECK(c == NWC);
+}
+
+/* rsl_batch_step_walls: bit for bit rsl_contact_step_wall_accumulate's loads and states in
+ * double at every SIMD level the CPU has (states in contact order and through an index into
+ * a larger array, with per-contact k_t and gamma_t); an invalid contact (a zero wall normal)
+ * skipped with the per-contact call's status and nothing written for it; call-level errors
+ * process nothing. */
+void test_batch_step_walls(void) {
+    rsl_sphere p[NW];
+    uint32_t sph[NWC];
+    rsl_wall w[NWC];
+    double fn[NWC], kt[NWC], gt[NWC];
+    wall_scene(p, sph, w, fn);
+    for (int c = 0; c < NWC; c++) kt[c] = 8e4 + 1e3 * c, gt[c] = 5.0 + c;
+    rsl_model *m = full_model();
+    const double dt = 1e-4;
+    for (int bad = -1; bad < 1; bad++) {
+        if (bad == 0) w[5].normal = rsl_test_vec(0.0, 0.0, 0.0);
+        /* Reference: the per-contact calls, two steps (the second with the first's history). */
+        rsl_vec3 fr[NW], tr[NW];
+        memset(fr, 0, sizeof fr);
+        memset(tr, 0, sizeof tr);
+        rsl_contact_state sr[NWC];
+        memset(sr, 0, sizeof sr);
+        int32_t bad_status = RSL_OK;
+        for (int step = 0; step < 2; step++)
+            for (int c = 0; c < NWC; c++) {
+                rsl_contact_input in;
+                memset(&in, 0, sizeof in);
+                in.normal_force = fn[c];
+                in.dt = dt;
+                in.flags = RSL_INPUT_SLIDING_STIFFNESS | RSL_INPUT_SLIDING_DAMPING;
+                in.sliding_stiffness = kt[c];
+                in.sliding_damping = gt[c];
+                const int32_t st = rsl_contact_step_wall_accumulate(m, &p[sph[c]], &w[c], &in,
+                                                                    &sr[c], &fr[sph[c]],
+                                                                    &tr[sph[c]]);
+                if (c == 5 && bad == 0) bad_status = st;
+                else CHECK_STATUS(st, RSL_OK);
+            }
+        if (bad == 0) CHECK(bad_status == RSL_ERR_INVALID_ARGUMENT);
+        for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++)
+            for (int indexed = 0; indexed < 2; indexed++) {
+                rsl_batch_options o;
+                if (!level_options(lv, &o)) continue;
+                rsl_vec3 f[NW], t[NW];
+                memset(f, 0, sizeof f);
+                memset(t, 0, sizeof t);
+                /* indexed: contact c's state at slot 2c + 1 of 2 NWC + 1 slots */
+                rsl_contact_state slots[2 * NWC + 1];
+                memset(slots, 0, sizeof slots);
+                size_t index[NWC];
+                for (int c = 0; c < NWC; c++) index[c] = indexed ? 2 * (size_t)c + 1 : (size_t)c;
+                rsl_batch_contact_params params;
+                memset(&params, 0, sizeof params);
+                params.sliding_stiffness = kt;
+                params.sliding_damping = gt;
+                rsl_batch_report rep;
+                for (int step = 0; step < 2; step++) {
+                    const int32_t st = rsl_batch_step_walls(
+                        m, p, NW, sph, w, NWC, fn, NULL, &params, dt, &o, slots,
+                        indexed ? 2 * NWC + 1 : NWC, indexed ? index : NULL, f, t, &rep);
+                    CHECK_STATUS(st, bad == 0 ? RSL_ERR_INVALID_ARGUMENT : RSL_OK);
+                    CHECK(rep.processed == (uint64_t)(bad == 0 ? NWC - 1 : NWC));
+                    CHECK(rep.first_failed == (bad == 0 ? 5u : RSL_BATCH_NONE));
+                    CHECK(rep.simd == lv);
+                }
+                CHECK(memcmp(f, fr, sizeof f) == 0);
+                CHECK(memcmp(t, tr, sizeof t) == 0);
+                for (int c = 0; c < NWC; c++)
+                    CHECK(memcmp(&slots[index[c]], &sr[c], sizeof sr[c]) == 0);
+                if (indexed)
+                    for (int c = 0; c <= NWC; c++) {
+                        rsl_contact_state zero;
+                        memset(&zero, 0, sizeof zero);
+                        CHECK(memcmp(&slots[2 * c], &zero, sizeof zero) == 0);
+                    }
+            }
+    }
+    /* Call-level errors: nothing processed, nothing written. */
+    rsl_vec3 f[NW], t[NW];
+    memset(f, 0, sizeof f);
+    memset(t, 0, sizeof t);
+    rsl_contact_state s[NWC];
+    memset(s, 0, sizeof s);
+    rsl_batch_report rep;
+    CHECK_STATUS(rsl_batch_step_walls(m, p, NW, sph, NULL, NWC, fn, NULL, NULL, dt, NULL, s, NWC,
+                                      NULL, f, t, &rep),
+                 RSL_ERR_NULL_POINTER);
+    CHECK(rep.processed == 0 && rep.failed == 0);
+    CHECK_STATUS(rsl_batch_step_walls(m, p, NW, sph, w, NWC, fn, NULL, NULL, dt, NULL, s,
+                                      NWC - 1, NULL, f, t, &rep),
+                 RSL_ERR_INVALID_ARGUMENT);
+    size_t backwards[NWC];
+    for (int c = 0; c < NWC; c++) backwards[c] = (size_t)(NWC - 1 - c);
+    CHECK_STATUS(rsl_batch_step_walls(m, p, NW, sph, w, NWC, fn, NULL, NULL, dt, NULL, s, NWC,
+                                      backwards, f, t, &rep),
+                 RSL_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(rsl_batch_step_walls(m, p, NW, sph, w, NWC, fn, NULL, NULL, -dt, NULL, s, NWC,
+                                      NULL, f, t, &rep),
+                 RSL_ERR_INVALID_TIME_STEP);
+    rsl_vec3 zero3[NW];
+    memset(zero3, 0, sizeof zero3);
+    CHECK(memcmp(f, zero3, sizeof f) == 0 && memcmp(t, zero3, sizeof t) == 0);
+    rsl_contact_state zs[NWC];
+    memset(zs, 0, sizeof zs);
+    CHECK(memcmp(s, zs, sizeof s) == 0);
+    rsl_model_free(m);
+}

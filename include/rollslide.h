@@ -8,9 +8,10 @@
  *
  * ABI: 0.3.0 breaks 0.2's: the scene kernels' constants, rsl_batch_scene, RSL_BATCH_GENERIC and
  * rsl_batch_report.scene are gone, and rsl_batch_contact_params gained `material` and `energy`:
- * rebuild against this header. 0.3.1 adds the unchecked per-contact entries (compatible with
- * 0.3.0). The shared library's SONAME carries the minor version while the
- * major is 0 (librollslide.so.0.3), so a program built against 0.2 does not load it.
+ * rebuild against this header. 0.3.1 adds the unchecked per-contact entries, 0.3.2 the batch
+ * call of sphere-wall contacts, rsl_batch_step_walls (both compatible with 0.3.0). The shared
+ * library's SONAME carries the minor version while the major is 0 (librollslide.so.0.3), so a
+ * program built against 0.2 does not load it.
  */
 
 #ifndef ROLLSLIDE_H
@@ -296,11 +297,11 @@
 #define RSL_VERSION_MINOR 3
 
 // Patch version of the header.
-#define RSL_VERSION_PATCH 1
+#define RSL_VERSION_PATCH 2
 
 // The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
 // PATCH` (0.3.0 is 300): `#if RSL_VERSION_NUMBER >= 300`.
-#define RSL_VERSION_NUMBER 301
+#define RSL_VERSION_NUMBER 302
 
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
@@ -454,6 +455,19 @@ typedef struct rsl_batch_contact_params {
   struct rsl_contact_energy *energy;
 } rsl_batch_contact_params;
 
+// A flat wall in rigid motion (body 2 of a sphere-wall contact).
+typedef struct rsl_wall {
+  // Any point of the wall surface; the reference point of its motion.
+  struct rsl_vec3 point;
+  // Outward normal, from the wall towards the sphere's side; any non-zero length (it is
+  // normalised). The contact normal is its opposite.
+  struct rsl_vec3 normal;
+  // Velocity of the wall's material point at `point`.
+  struct rsl_vec3 velocity;
+  // Angular velocity of the wall.
+  struct rsl_vec3 angular_velocity;
+} rsl_wall;
+
 // Loads of one contact (contact-major step): body 2 receives `-force1` and `torque2`.
 typedef struct rsl_batch_loads {
   // Force on body 1.
@@ -596,19 +610,6 @@ typedef struct rsl_contact_loads {
   // Padding.
   uint32_t reserved;
 } rsl_contact_loads;
-
-// A flat wall in rigid motion (body 2 of a sphere-wall contact).
-typedef struct rsl_wall {
-  // Any point of the wall surface; the reference point of its motion.
-  struct rsl_vec3 point;
-  // Outward normal, from the wall towards the sphere's side; any non-zero length (it is
-  // normalised). The contact normal is its opposite.
-  struct rsl_vec3 normal;
-  // Velocity of the wall's material point at `point`.
-  struct rsl_vec3 velocity;
-  // Angular velocity of the wall.
-  struct rsl_vec3 angular_velocity;
-} rsl_wall;
 
 // Velocities of two spheres (output of `rsl_compose`).
 typedef struct rsl_pair_velocities {
@@ -805,6 +806,52 @@ int32_t rsl_batch_step_indexed(const struct rsl_model *model,
                                struct rsl_vec3 *force,
                                struct rsl_vec3 *torque,
                                struct rsl_batch_report *report);
+
+// Steps many sphere-wall contacts (particle-major), each one as `rsl_contact_step_wall`
+// steps it: contact `c` is particle `spheres[c]` (body 1) against the flat wall `walls[c]`
+// (body 2: its point, outward normal of any non-zero length, velocity and angular velocity;
+// each contact its own, so one call takes the contacts of several walls), with normal force
+// `normal_force[c]` (compressive positive). The loads are **added** to the particle's
+// accumulators, `force[i] += F1`, `torque[i] += M1`, in contact order; the wall receives
+// nothing. `normal_stiffness`, `params` (per-contact `k_t`, `gamma_t`, material pairs, energy
+// output), `options`, `report`, the validation and skipping of invalid contacts, and the
+// prefetching rule are those of `rsl_batch_step_params`; mixed materials come through the
+// model's table (`params->material`).
+//
+// Histories: with `state_index` NULL, contact `c`'s state is `states[c]` (`n_states` at least
+// `n_contacts`; the states past them are not touched); otherwise it is
+// `states[state_index[c]]`, with the indices strictly increasing and below `n_states` (e.g. one
+// history per particle, as LAMMPS' `fix wall/gran` keeps them; `RSL_ERR_INVALID_ARGUMENT`
+// otherwise, nothing processed).
+//
+// In double precision the loads and states equal `rsl_contact_step_wall_accumulate`'s with
+// `RSL_INPUT_SLIDING_STIFFNESS` / `RSL_INPUT_SLIDING_DAMPING` set from `params` bit for bit,
+// at every SIMD level, added in the same order. Not taken here (use the per-contact call): the
+// setup pass, bonds, a limit force, and per-contact rolling or twisting coefficients.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// Every array must hold the stated number of elements (`particles`, `force`, `torque`:
+// `n_particles`; `states`: `n_states`; `spheres`, `walls`, `state_index` and the others:
+// `n_contacts`); NULL only for an empty array (`state_index` may be NULL). `states`, `force`,
+// `torque`, `report` and `params->energy` must not overlap each other or any input. The model
+// must not be modified during the call.
+int32_t rsl_batch_step_walls(const struct rsl_model *model,
+                             const struct rsl_sphere *particles,
+                             size_t n_particles,
+                             const uint32_t *spheres,
+                             const struct rsl_wall *walls,
+                             size_t n_contacts,
+                             const double *normal_force,
+                             const double *normal_stiffness,
+                             const struct rsl_batch_contact_params *params,
+                             double dt,
+                             const struct rsl_batch_options *options,
+                             struct rsl_contact_state *states,
+                             size_t n_states,
+                             const size_t *state_index,
+                             struct rsl_vec3 *force,
+                             struct rsl_vec3 *torque,
+                             struct rsl_batch_report *report);
 
 // Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`. The record
 // holds the fields of `rsl_contact_state` the model's step reads, in this order: the sliding

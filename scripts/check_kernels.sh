@@ -66,7 +66,8 @@ fi
 # place (rsl_batch_step_indexed), each with the model's sliding coefficients or per-contact ones
 # (4); packed histories (rsl_batch_step_history), one per record layout: 7, 10 or 13 words from
 # word 0 with a sliding law, 4, 7 or 10 from word 3 without (6); contact-major
-# (rsl_batch_step_contacts, _params: 1). The decomposition has one kernel per level
+# (rsl_batch_step_contacts, _params: 1); sphere-wall contacts (rsl_batch_step_walls: 1, the
+# states in order or in place chosen at run time). The decomposition has one kernel per level
 # (`decompose_avx2`, `decompose_avx512`: the precision is a run-time argument), access type
 # (particle- or contact-major: DECOMPOSE_ACCESS) and prefetching choice (`<const P: bool, A>`).
 # Each of the six families must be there, with at most one instance per access type (two for
@@ -74,7 +75,7 @@ fi
 # another compile-time parameter (or a new access type: then update the count here). Where the
 # symbols carry their generic arguments (v0 mangling), a decomposition kernel's first must be
 # the prefetching choice (`true` or `false`).
-STEP_ACCESS=11
+STEP_ACCESS=12
 DECOMPOSE_ACCESS=2
 families=$(objdump -t -C "$lib" | awk -v step_max="$STEP_ACCESS" \
     -v decompose_max=$((2 * DECOMPOSE_ACCESS)) '

@@ -5,8 +5,11 @@
 //! normal `n` points **from body 1 to body 2** (into the wall). Lengths are in the caller's unit.
 
 use crate::error::Error;
-use crate::scalar::{dot, finite_probe, lit, norm, norm_squared, zero_if_finite, Real, Vec3};
+use crate::scalar::{
+    dot, finite_probe, lit, norm, norm_squared, select, select3, zero_if_finite, Real, Vec3,
+};
 use nalgebra::RealField;
+use simba::simd::SimdBool;
 
 /// Where the two branch vectors end (kinematics.md section 2, a **convention**).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -118,7 +121,9 @@ pub fn wall_geometry_unchecked<T: Real>(
     wall_normal: &Vec3<T>,
     options: GeometryOptions,
 ) -> ContactGeometry<T> {
-    let normal = -wall_normal;
+    // Component by component: nalgebra's `Neg` of a vector of lanes was left out of line in a
+    // SIMD kernel (scripts/check_kernels.sh); the same negations.
+    let normal = Vec3::new(-wall_normal.x, -wall_normal.y, -wall_normal.z);
     let height = dot(&(r1 - wall_point), wall_normal);
     let overlap = radius1 - height;
     let infinity = lit::<T>(f64::INFINITY);
@@ -260,6 +265,56 @@ pub fn pair_geometry_in_range<T: Real>(
             .simd_le(lit::<T>(16.0) * eps)
         & g.branch1.simd_gt(zero)
         & g.branch2.simd_gt(zero)
+}
+
+/// [`unit_vector`] lane-wise, for the batch kernels of sphere-wall contacts: the unit vector
+/// of each lane with the bits the checked normalisation gives it (the plain `v / |v|` where that
+/// is accurate, else `v` divided by its largest absolute component first), and the lanes where
+/// `v` can be normalised (finite and non-zero; the others hold whatever the formulas give). The
+/// rescaled form is computed only when some lane needs it.
+#[inline(always)]
+pub fn unit_vector_lanes<T: Real>(v: &Vec3<T>) -> (Vec3<T>, T::SimdBool) {
+    let zero = T::zero();
+    let len = norm(v);
+    let unit = v / len;
+    let accurate = len.simd_gt(zero)
+        & len.simd_lt(lit(f64::INFINITY))
+        & (norm_squared(&unit) - T::one())
+            .simd_abs()
+            .simd_le(lit::<T>(16.0) * T::simd_default_epsilon());
+    if accurate.all() {
+        return (unit, accurate);
+    }
+    let finite = finite_probe(zero, v).simd_eq(zero);
+    let largest =
+        v.x.simd_abs()
+            .simd_max(v.y.simd_abs())
+            .simd_max(v.z.simd_abs());
+    let nonzero = largest.simd_gt(zero);
+    let scaled = v / select(nonzero, largest, T::one());
+    let rescaled = scaled / norm(&scaled);
+    (
+        select3(accurate, &unit, &rescaled),
+        finite & (accurate | nonzero),
+    )
+}
+
+/// The lanes whose sphere-wall geometry the checked step accepts, as far as the geometry
+/// shows it, for a wall normal `normalisable` ([`unit_vector_lanes`]): finite centre, radius
+/// and wall point, radius > 0, finite overlap, `l1 > 0`.
+#[inline(always)]
+pub fn wall_geometry_valid<T: Real>(
+    r1: &Vec3<T>,
+    radius1: T,
+    wall_point: &Vec3<T>,
+    normalisable: T::SimdBool,
+    g: &ContactGeometry<T>,
+) -> T::SimdBool {
+    let zero = T::zero();
+    let mut acc = zero_if_finite(radius1) + zero_if_finite(g.overlap);
+    acc = finite_probe(acc, r1);
+    acc = finite_probe(acc, wall_point);
+    acc.simd_eq(zero) & normalisable & radius1.simd_gt(zero) & g.branch1.simd_gt(zero)
 }
 
 /// `v / |v|` for a finite `v` of any non-zero length, `None` for the zero vector. The plain

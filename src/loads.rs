@@ -75,7 +75,9 @@ pub fn contact_loads_from_couple<T: Real>(
     let n_x_ft = cross(&n, sliding_force);
     let torque1 = n_x_ft * g.branch1 + couple;
     let torque2 = if is_wall {
-        -couple
+        // Component by component: nalgebra's `Neg` of a vector of lanes was left out of line in
+        // a SIMD kernel (scripts/check_kernels.sh); the same negations.
+        Vec3::new(-couple.x, -couple.y, -couple.z)
     } else {
         n_x_ft * g.branch2 - couple
     };

@@ -22,13 +22,17 @@
 //! replaces: the results are bitwise the same.
 
 use super::{
-    energy_terms, geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport, Lanes,
-    LoadsSlot, Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess, ENERGY_TERMS,
-    SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
+    conv3, energy_terms, geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport,
+    Body2, Lanes, LoadsSlot, Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess,
+    ENERGY_TERMS, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
 };
 use crate::batch::SphereSlot;
 use crate::decompose::Sphere;
-use crate::geometry::{pair_geometry_unchecked, pair_geometry_valid};
+use crate::decompose::Wall;
+use crate::geometry::{
+    pair_geometry_unchecked, pair_geometry_valid, unit_vector_lanes, wall_geometry_unchecked,
+    wall_geometry_valid,
+};
 use crate::laws::materials::{Coefficients, COEFFICIENTS, SLIDING_DAMPING, SLIDING_STIFFNESS};
 use crate::laws::model::Model;
 use crate::laws::step::{
@@ -48,6 +52,10 @@ pub(crate) const GROUP: usize = 8;
 
 /// Doubles of a body, in this order: position (3), velocity (3), angular velocity (3), radius.
 pub(crate) const BODY_WORDS: usize = 10;
+
+/// Doubles of a wall, in this order: point (3), outward normal (3), velocity (3), angular
+/// velocity (3) (the order of the C `rsl_wall`).
+pub(crate) const WALL_WORDS: usize = 12;
 
 /// Doubles of a state, in the order of [`ContactState`]: sliding spring (3), rolling spring
 /// (3), twisting angle, twisting off-axis part (3), previous normal (3).
@@ -72,7 +80,9 @@ const _: () = assert!(BLOCK.is_multiple_of(GROUP) && BLOCK <= 64);
 pub type GroupRow = [f64; GROUP];
 
 /// One group's slots of a block's input rows, to fill: the two bodies' (`BODY_WORDS` order)
-/// and the state's (`STATE_WORDS` order).
+/// and the state's (`STATE_WORDS` order). For a sphere-wall contact, body 2's rows hold the
+/// wall ([`WALL_WORDS`] order: its point, velocity and angular velocity where a sphere has its
+/// centre, velocity and angular velocity) and `wall_normal` its normal as given.
 pub struct GroupRowsMut<'a> {
     /// Body 1's rows.
     pub body1: [&'a mut GroupRow; BODY_WORDS],
@@ -80,6 +90,8 @@ pub struct GroupRowsMut<'a> {
     pub body2: [&'a mut GroupRow; BODY_WORDS],
     /// The state's rows.
     pub states: [&'a mut GroupRow; STATE_WORDS],
+    /// A wall's normal (x, y, z), for sphere-wall contacts; unused for pairs.
+    pub wall_normal: [&'a mut GroupRow; 3],
 }
 
 /// `[f(0), f(1), ..., f(GROUP - 1)]`, always inlined. `std::array::from_fn` is not: LLVM left
@@ -313,8 +325,10 @@ pub type LoadRows = [[f64; BLOCK]; 9];
 struct Block {
     /// Body 1 in [`BODY_WORDS`] order.
     body1: [Row; BODY_WORDS],
-    /// Body 2 in [`BODY_WORDS`] order.
+    /// Body 2 in [`BODY_WORDS`] order (a wall: point, velocity, angular velocity).
     body2: [Row; BODY_WORDS],
+    /// A wall's normal as given (sphere-wall contacts only).
+    wall_normal: [Row; 3],
     normal_force: Row,
     normal_stiffness: Row,
     /// Per-contact coefficients ([`COEFFICIENTS`] order, see `laws::materials`): each contact's
@@ -340,6 +354,7 @@ impl Block {
         Block {
             body1: [[0.0; BLOCK]; BODY_WORDS],
             body2: [[0.0; BLOCK]; BODY_WORDS],
+            wall_normal: [[0.0; BLOCK]; 3],
             normal_force: [0.0; BLOCK],
             normal_stiffness: [1.0; BLOCK],
             coefficients: [[0.0; BLOCK]; COEFFICIENTS],
@@ -468,6 +483,7 @@ fn gather<A: StepAccess, X: GroupCopy<A::P, A::State>>(
             body1: group_mut(&mut b.body1, g),
             body2: group_mut(&mut b.body2, g),
             states: group_mut(&mut b.state, g),
+            wall_normal: group_mut(&mut b.wall_normal, g),
         };
         let index_ok = access.copy_group(copy, c0 + g, (count - g).min(GROUP), in_range, rows);
         b.index_ok |= (index_ok & material_ok) << g;
@@ -976,6 +992,7 @@ fn step_lanes<L: Lanes>(
     model: &Model,
     dt: f64,
     needs_kn: bool,
+    wall: bool,
     given: Given,
     energy: bool,
     fused: bool,
@@ -984,20 +1001,44 @@ fn step_lanes<L: Lanes>(
 ) {
     let src = RowsAt { block: b, at };
     let (p1, p2, r1, r2) = LaneSource::<L>::geometry(&src);
-    let g = pair_geometry_unchecked(&p1, &p2, r1, r2, model.geometry);
-    let geometry_ok = pair_geometry_valid(&p1, &p2, r1, r2, &g).bitmask();
+    // Body 2: a sphere, or with `wall` (the access's, a constant in each kernel) the wall's
+    // motion, from body 2's rows, which hold the wall (its point moved to the origin below).
     let (body1, body2) = LaneSource::<L>::bodies(&src);
+    let (g, geometry_ok, wall) = if wall {
+        let normal = load3::<L::Geo>(&b.wall_normal, at);
+        let (unit, normalisable) = unit_vector_lanes(&normal);
+        let mut g = wall_geometry_unchecked(&p1, r1, &p2, &unit, model.geometry);
+        let ok = wall_geometry_valid(&p1, r1, &p2, normalisable, &g).bitmask();
+        // The step reads the contact point only as `r_c - point` (the wall's material velocity
+        // there): taken in the geometry's precision, with the wall's point moved to the origin.
+        // In double precision these are the per-contact wall step's bits.
+        g.contact_point -= p2;
+        let wall = Wall {
+            point: Vec3::zeros(),
+            normal: conv3::<L>(&unit, &unit),
+            velocity: body2.velocity,
+            angular_velocity: body2.angular_velocity,
+        };
+        (g, ok, Some(wall))
+    } else {
+        let g = pair_geometry_unchecked(&p1, &p2, r1, r2, model.geometry);
+        (g, pair_geometry_valid(&p1, &p2, r1, r2, &g).bitmask(), None)
+    };
     let (force, stiffness) = LaneSource::<L>::forces(&src, needs_kn);
     let sliding = LaneSource::<L>::sliding(&src, given);
     let materials = LaneSource::<L>::materials(&src, given);
     let mut state = LaneSource::<L>::state(&src);
     let kn = needs_kn.then_some(stiffness);
     let inputs_ok = inputs_ok(&body1, &body2, force, kn, sliding, &state, fused);
+    let partner = match &wall {
+        Some(w) => Partner::Wall(w),
+        None => Partner::Sphere(&body2),
+    };
     let out = contact_step_with_geometry(
         model,
         geometry_in::<L>(&g, &g),
         &body1,
-        Partner::Sphere(&body2),
+        partner,
         &step_input(model, force, stiffness, sliding, materials, dt),
         &mut state,
     );
@@ -1125,10 +1166,15 @@ fn refuse<A: StepAccess>(
     report: &mut BatchReport,
 ) {
     report.fail(c, || {
+        let bodies = if A::WALL {
+            access.wall_contact(c).map(|(s, w)| (s, Body2::Wall(w)))
+        } else {
+            access.bodies(c).map(|(b1, b2)| (b1, Body2::Sphere(b2)))
+        };
         step_error(
             model,
             dt,
-            access.bodies(c),
+            bodies,
             access.normal_force(c),
             if needs_kn {
                 access.normal_stiffness(c)
@@ -1231,7 +1277,9 @@ pub fn step_kernel<L: Lanes, A: StepAccess, X: GroupCopy<A::P, A::State>>(
     if super::refuse_ungatherable(&*access, n, &mut report) {
         return report;
     }
-    if L::N == 1 {
+    // One lane at a time, a pair steps straight from the host's structs; a wall goes through
+    // the block as the SIMD kernels do.
+    if L::N == 1 && !A::WALL {
         for c in 0..n {
             step_one::<L, A>(prefetch, access, model, dt, needs_kn, c, &mut report);
         }
@@ -1249,7 +1297,17 @@ pub fn step_kernel<L: Lanes, A: StepAccess, X: GroupCopy<A::P, A::State>>(
         block.valid = 0;
         let mut at = 0;
         while at < count {
-            step_lanes::<L>(model, dt, needs_kn, given, energy, fused, at, &mut block);
+            step_lanes::<L>(
+                model,
+                dt,
+                needs_kn,
+                A::WALL,
+                given,
+                energy,
+                fused,
+                at,
+                &mut block,
+            );
             // What the contacts `TOUCH_AHEAD` further on read in contact order, one lane
             // step's worth after each step: spread among the arithmetic, where the gather issues
             // the scattered rest a group at a time ([`Gather::touch_in_order`]).

@@ -45,6 +45,7 @@ mod x86;
 #[cfg(all(test, target_arch = "x86_64"))]
 pub(crate) use block::state_words;
 // For the SIMD copiers of `x86::transpose`, which exist on x86-64 only.
+pub(crate) use block::WALL_WORDS;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use block::{group_of, pair_bodies_by_reference, store_loads_by_value, BODY_WORDS};
 pub use block::{step_kernel, GroupCopy, GroupRow, GroupRowsMut, LoadRows, PortableCopy};
@@ -52,16 +53,16 @@ pub(crate) use block::{GROUP, STATE_WORDS};
 pub use dispatch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 pub use history::Record;
 pub use lanes::{Lanes, MAX_LANES};
-pub use states::{ContactStates, IndexedGroups, IndexedStates};
+pub use states::{ContactStates, IndexedGroups, IndexedStates, OrderedOrIndexed};
 
 use crate::decompose::{
-    decompose_pair, decompose_pair_with_geometry, Decomposition, Parts, Sphere,
+    decompose_pair, decompose_pair_with_geometry, Decomposition, Parts, Sphere, Wall,
 };
 use crate::error::Error;
 use crate::geometry::{
     pair_geometry_unchecked, pair_geometry_valid, ContactGeometry, GeometryOptions,
 };
-use crate::laws::checked::contact_step_pair;
+use crate::laws::checked::{contact_step_pair, contact_step_wall};
 use crate::laws::materials::Coefficients;
 pub use crate::laws::materials::Materials;
 use crate::laws::model::{Model, RollingDamping, RollingLaw};
@@ -173,6 +174,48 @@ impl SphereSlot for Sphere<f64> {
     #[inline(always)]
     fn sphere(&self) -> Sphere<f64> {
         *self
+    }
+}
+
+/// How the kernels read a wall of a sphere-wall contact (the C `rsl_wall`, or [`Wall`]).
+pub trait WallSlot {
+    /// The wall's values in [`WALL_WORDS`] order: point, normal (as given), velocity,
+    /// angular velocity.
+    fn words(&self) -> [f64; WALL_WORDS];
+    /// The wall in `f64`, its normal as given.
+    #[inline(always)]
+    fn wall(&self) -> Wall<f64> {
+        let w = self.words();
+        let v = |q: usize| Vec3::new(w[q], w[q + 1], w[q + 2]);
+        Wall {
+            point: v(0),
+            normal: v(3),
+            velocity: v(6),
+            angular_velocity: v(9),
+        }
+    }
+    /// Starts loading `slots[i]` when it exists (see [`SphereSlot::touch_in`]).
+    #[inline(always)]
+    fn touch_in(slots: &[Self], i: usize)
+    where
+        Self: Sized,
+    {
+        touch_present(slots, i, |w| {
+            std::hint::black_box(w.words()[0]);
+        });
+    }
+}
+
+impl WallSlot for Wall<f64> {
+    #[inline(always)]
+    fn words(&self) -> [f64; WALL_WORDS] {
+        let (p, n, v, w) = (
+            &self.point,
+            &self.normal,
+            &self.velocity,
+            &self.angular_velocity,
+        );
+        [p.x, p.y, p.z, n.x, n.y, n.z, v.x, v.y, v.z, w.x, w.y, w.z]
     }
 }
 
@@ -347,6 +390,16 @@ pub struct GroupRefs<'a, P, S> {
 pub trait StepAccess: Gather {
     /// The state slot type.
     type State: StateSlot;
+    /// True for sphere-wall contacts: body 2's rows hold the wall and the wall's normal its own
+    /// rows ([`GroupRowsMut`]), filled by [`StepAccess::copy_group`], and
+    /// [`StepAccess::wall_contact`] gives each contact. False (sphere pairs) by default.
+    const WALL: bool = false;
+    /// The sphere and the wall of contact `c` of a sphere-wall access, `None` when the
+    /// contact's particle index is invalid (and for a sphere pair: the default).
+    #[inline(always)]
+    fn wall_contact(&self, _c: usize) -> Option<(Sphere<f64>, Wall<f64>)> {
+        None
+    }
     /// Number of contacts.
     fn len(&self) -> usize;
     /// True when there is no contact.
@@ -848,6 +901,221 @@ impl<P: SphereSlot, St: ContactStates, V: AddSlot, O: SlidingSource> StepAccess
             forces[held].set(force);
             torques[held].set(torque);
         }
+    }
+}
+
+/// Sphere-wall step, particle-major: contact `c` is particle `spheres[c]` (body 1) against
+/// `walls[c]` (body 2); its loads are accumulated on the particle (`force[i] += F1`,
+/// `torque[i] += M1`, in contact order). The wall receives nothing.
+pub struct WallSteps<'a, P, W, St, V> {
+    /// Particles (index space of `spheres`).
+    pub particles: &'a [P],
+    /// The particle of each contact.
+    pub spheres: &'a [u32],
+    /// The wall of each contact (its normal of any non-zero length).
+    pub walls: &'a [W],
+    /// `f_n` per contact.
+    pub normal_force: &'a [f64],
+    /// `k_n` per contact when the model needs it.
+    pub normal_stiffness: Option<&'a [f64]>,
+    /// State per contact ([`ContactStates`]).
+    pub states: St,
+    /// Force accumulator per particle.
+    pub force: &'a mut [V],
+    /// Torque accumulator per particle.
+    pub torque: &'a mut [V],
+    /// Per-contact sliding coefficients and material pairs (none: the model's).
+    pub sliding: SlidingOverrides<'a>,
+    /// Energy terms per contact, as for [`ParticleSteps::energy`].
+    pub energy: Option<&'a mut [EnergyTerms]>,
+}
+
+impl<P, W, St: ContactStates, V> WallSteps<'_, P, W, St, V> {
+    /// Checks that the per-contact arrays have one entry per contact and the per-particle ones
+    /// one per particle.
+    pub fn check(&self) -> Result<(), Error> {
+        let nc = self.spheres.len();
+        let np = self.particles.len();
+        let ok = self.walls.len() == nc
+            && self.normal_force.len() == nc
+            && self.normal_stiffness.is_none_or(|k| k.len() == nc)
+            && self.states.contacts() == nc
+            && self.force.len() == np
+            && self.torque.len() == np
+            && self.sliding.fits(nc)
+            && self.energy.as_ref().is_none_or(|e| e.len() == nc);
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::InvalidArgument(
+                "batch array lengths do not match".to_string(),
+            ))
+        }
+    }
+
+    /// Particle `spheres[c]`, clamped to the last particle, and whether it was in range.
+    #[inline(always)]
+    fn sphere_ref(&self, c: usize) -> (&P, bool) {
+        let last = self.particles.len() - 1;
+        let i = self.spheres[c] as usize;
+        (&self.particles[i.min(last)], i <= last)
+    }
+}
+
+impl<P: SphereSlot, W: WallSlot, St: ContactStates, V: AddSlot> Gather
+    for WallSteps<'_, P, W, St, V>
+{
+    type P = P;
+    #[inline(always)]
+    fn gatherable(&self) -> bool {
+        !self.particles.is_empty()
+    }
+    /// The sphere as both bodies (the kernels read the wall through
+    /// [`StepAccess::copy_group`]).
+    #[inline(always)]
+    fn body_refs(&self, c: usize) -> (&P, &P, bool) {
+        let (p, ok) = self.sphere_ref(c);
+        (p, p, ok)
+    }
+    /// The state, the wall, and the particle's sphere, force and torque (a host's wall contacts
+    /// come in particle order: all in order).
+    #[inline(always)]
+    fn touch_in_order(&self, c: usize) {
+        self.states.touch(c);
+        W::touch_in(self.walls, c);
+        if let Some(&i) = self.spheres.get(c) {
+            let i = i as usize;
+            P::touch_in(self.particles, i);
+            V::touch_in(self.force, i);
+            V::touch_in(self.torque, i);
+        }
+    }
+    fn footprint(&self) -> usize {
+        let n = self.spheres.len();
+        reachable_bytes(self.particles, n)
+            + size_of_val(self.spheres)
+            + size_of_val(self.walls)
+            + size_of_val(self.normal_force)
+            + self.normal_stiffness.map_or(0, size_of_val)
+            + self.states.bytes()
+            + reachable_bytes(self.force, n)
+            + reachable_bytes(self.torque, n)
+            + self.sliding.bytes()
+    }
+}
+
+impl<P: SphereSlot, W: WallSlot, St: ContactStates, V: AddSlot> StepAccess
+    for WallSteps<'_, P, W, St, V>
+{
+    type State = St::Slot;
+    const WALL: bool = true;
+    #[inline(always)]
+    fn wall_contact(&self, c: usize) -> Option<(Sphere<f64>, Wall<f64>)> {
+        let sphere = self.particles.get(self.spheres[c] as usize)?;
+        Some((sphere.sphere(), self.walls[c].wall()))
+    }
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.spheres.len()
+    }
+    /// Not used for walls ([`StepAccess::wall_contact`] is): the sphere twice.
+    #[inline(always)]
+    fn bodies(&self, c: usize) -> Option<(Sphere<f64>, Sphere<f64>)> {
+        let s = self.particles.get(self.spheres[c] as usize)?.sphere();
+        Some((s, s))
+    }
+    #[inline(always)]
+    fn normal_force(&self, c: usize) -> f64 {
+        self.normal_force[c]
+    }
+    #[inline(always)]
+    fn normal_forces(&self, first: usize) -> [f64; GROUP] {
+        block::group_at(self.normal_force, first)
+    }
+    #[inline(always)]
+    fn normal_stiffness(&self, c: usize) -> f64 {
+        self.normal_stiffness.map_or(0.0, |k| k[c])
+    }
+    #[inline(always)]
+    fn sliding_overrides(&self) -> SlidingOverrides<'_> {
+        self.sliding
+    }
+    #[inline(always)]
+    fn state(&mut self, c: usize) -> &mut St::Slot {
+        self.states.get_mut(c)
+    }
+    #[inline(always)]
+    fn state_ref(&self, c: usize) -> &St::Slot {
+        self.states.get(c)
+    }
+    #[inline(always)]
+    fn store_group<X: GroupCopy<P, St::Slot>>(
+        &mut self,
+        copy: X,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        c: usize,
+    ) {
+        self.states.store_group(copy, rows, slip, c);
+    }
+    #[inline(always)]
+    fn energy_out(&mut self) -> Option<&mut [EnergyTerms]> {
+        self.energy.as_deref_mut()
+    }
+    #[inline(always)]
+    fn emit(&mut self, c: usize, l: &PairLoads) {
+        let i = self.spheres[c] as usize;
+        self.force[i].add(l.force1);
+        self.torque[i].add(l.torque1);
+    }
+    #[inline(always)]
+    fn indices_in_range(&self, first: usize, n: usize) -> bool {
+        let largest = self.spheres[first..first + n]
+            .iter()
+            .fold(0, |m, &i| m.max(i));
+        (largest as usize) < self.particles.len()
+    }
+    /// The spheres and states through `copy`; the walls value by value into body 2's rows
+    /// (point, velocity, angular velocity) and the normal's rows.
+    #[inline(always)]
+    fn copy_group<X: GroupCopy<P, St::Slot>>(
+        &self,
+        copy: X,
+        first: usize,
+        n: usize,
+        in_range: bool,
+        rows: GroupRowsMut<'_>,
+    ) -> u64 {
+        let contact = |k: usize| first + k.min(n - 1);
+        let mut index_ok = lane_bits(GROUP);
+        if !in_range {
+            index_ok = 0;
+            for k in 0..GROUP {
+                index_ok |= (self.sphere_ref(contact(k)).1 as u64) << k;
+            }
+        }
+        copy.bodies(
+            block::group_of(|k| self.sphere_ref(contact(k)).0),
+            rows.body1,
+        );
+        let states = if n == GROUP {
+            self.states.group(first)
+        } else {
+            block::group_of(|k| self.states.get(contact(k)))
+        };
+        copy.states(states, rows.states);
+        let [px, py, pz, vx, vy, vz, wx, wy, wz, _radius] = rows.body2;
+        let [nx, ny, nz] = rows.wall_normal;
+        let mut targets: [&mut GroupRow; WALL_WORDS] =
+            [px, py, pz, nx, ny, nz, vx, vy, vz, wx, wy, wz];
+        let walls = &self.walls[first..first + n];
+        for k in 0..GROUP {
+            let words = walls[k.min(n - 1)].words();
+            for (row, v) in targets.iter_mut().zip(words) {
+                row[k] = v;
+            }
+        }
+        index_ok
     }
 }
 
@@ -1358,13 +1626,22 @@ fn gather<L: Lanes, P: SphereSlot>(
     }
 }
 
+/// Body 2 of a contact the kernel refused, for [`step_error`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Body2 {
+    /// A sphere.
+    Sphere(Sphere<f64>),
+    /// A wall (its normal as given).
+    Wall(Wall<f64>),
+}
+
 /// The error the checked per-contact step gives for a contact the kernel refused.
 #[cold]
 #[allow(clippy::too_many_arguments)]
 fn step_error(
     model: &Model,
     dt: f64,
-    bodies: Option<(Sphere<f64>, Sphere<f64>)>,
+    bodies: Option<(Sphere<f64>, Body2)>,
     f_n: f64,
     k_n: f64,
     sliding: (Option<f64>, Option<f64>),
@@ -1386,7 +1663,11 @@ fn step_error(
     input.normal_stiffness = k_n;
     (input.sliding_stiffness, input.sliding_damping) = sliding;
     let mut s = *state;
-    match contact_step_pair(&material_model, &b1, &b2, &input, &mut s) {
+    let stepped = match b2 {
+        Body2::Sphere(b2) => contact_step_pair(&material_model, &b1, &b2, &input, &mut s),
+        Body2::Wall(w) => contact_step_wall(&material_model, &b1, &w, &input, &mut s),
+    };
+    match stepped {
         Err(e) => e,
         Ok(_) => Error::NonFinite("result overflowed in the batch's precision"),
     }

@@ -283,6 +283,74 @@ impl ContactStates for IndexedGroups<'_> {
     }
 }
 
+/// C states in contact order or through an index, chosen by the call ([`IndexedGroups`] when
+/// the host gives indices): what `rsl_batch_step_walls` steps, one kernel for both (a branch per
+/// group on which, always the same within a call).
+pub enum OrderedOrIndexed<'a> {
+    /// `states[c]` for contact `c`.
+    Ordered(&'a mut [rsl_contact_state]),
+    /// `states[index[c]]`.
+    Indexed(IndexedGroups<'a>),
+}
+
+impl ContactStates for OrderedOrIndexed<'_> {
+    type Slot = rsl_contact_state;
+    #[inline(always)]
+    fn contacts(&self) -> usize {
+        match self {
+            Self::Ordered(s) => s.contacts(),
+            Self::Indexed(s) => s.contacts(),
+        }
+    }
+    #[inline(always)]
+    fn get(&self, c: usize) -> &rsl_contact_state {
+        match self {
+            Self::Ordered(s) => ContactStates::get(s, c),
+            Self::Indexed(s) => s.get(c),
+        }
+    }
+    #[inline(always)]
+    fn get_mut(&mut self, c: usize) -> &mut rsl_contact_state {
+        match self {
+            Self::Ordered(s) => ContactStates::get_mut(s, c),
+            Self::Indexed(s) => s.get_mut(c),
+        }
+    }
+    #[inline(always)]
+    fn group(&self, c: usize) -> [&rsl_contact_state; GROUP] {
+        match self {
+            Self::Ordered(s) => ContactStates::group(s, c),
+            Self::Indexed(s) => s.group(c),
+        }
+    }
+    #[inline(always)]
+    fn store_group<P, X: GroupCopy<P, rsl_contact_state>>(
+        &mut self,
+        copy: X,
+        rows: [&GroupRow; STATE_WORDS],
+        slip: &[u32; GROUP],
+        c: usize,
+    ) {
+        match self {
+            Self::Ordered(s) => s.store_group(copy, rows, slip, c),
+            Self::Indexed(s) => s.store_group(copy, rows, slip, c),
+        }
+    }
+    #[inline(always)]
+    fn touch(&self, c: usize) {
+        match self {
+            Self::Ordered(s) => ContactStates::touch(s, c),
+            Self::Indexed(s) => s.touch(c),
+        }
+    }
+    fn bytes(&self) -> usize {
+        match self {
+            Self::Ordered(s) => s.bytes(),
+            Self::Indexed(s) => s.bytes(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

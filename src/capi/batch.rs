@@ -16,7 +16,7 @@ pub use crate::layout::rsl_batch_loads;
 use super::decompose::{parse_options, rsl_decompose_options};
 use super::handle::{live_model, rsl_model};
 use super::status::FfiError;
-use super::types::{rsl_contact_energy, rsl_decomposition, rsl_sphere, rsl_vec3};
+use super::types::{rsl_contact_energy, rsl_decomposition, rsl_sphere, rsl_vec3, rsl_wall};
 use super::{guard, optional_input, output, slice_in, slice_out};
 use crate::batch::dispatch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 use crate::batch::history::{
@@ -26,7 +26,8 @@ use crate::batch::history::{
 use crate::batch::{
     needs_normal_stiffness, BatchReport, ContactDecompose, ContactStates, ContactSteps,
     DecomposeAccess, DecompositionSlot, EnergyTerms, IndexedGroups, IndexedStates, Materials,
-    ModelSliding, ParticleDecompose, ParticleSteps, SlidingOverrides, SlidingSource, StateSlot,
+    ModelSliding, OrderedOrIndexed, ParticleDecompose, ParticleSteps, SlidingOverrides,
+    SlidingSource, StateSlot, WallSteps,
 };
 use crate::decompose::{Decomposition, Parts};
 use crate::error::Error;
@@ -685,6 +686,117 @@ pub unsafe extern "C" fn rsl_batch_step_indexed(
             },
         )
     }
+}
+
+/// Steps many sphere-wall contacts (particle-major), each one as `rsl_contact_step_wall`
+/// steps it: contact `c` is particle `spheres[c]` (body 1) against the flat wall `walls[c]`
+/// (body 2: its point, outward normal of any non-zero length, velocity and angular velocity;
+/// each contact its own, so one call takes the contacts of several walls), with normal force
+/// `normal_force[c]` (compressive positive). The loads are **added** to the particle's
+/// accumulators, `force[i] += F1`, `torque[i] += M1`, in contact order; the wall receives
+/// nothing. `normal_stiffness`, `params` (per-contact `k_t`, `gamma_t`, material pairs, energy
+/// output), `options`, `report`, the validation and skipping of invalid contacts, and the
+/// prefetching rule are those of `rsl_batch_step_params`; mixed materials come through the
+/// model's table (`params->material`).
+///
+/// Histories: with `state_index` NULL, contact `c`'s state is `states[c]` (`n_states` at least
+/// `n_contacts`; the states past them are not touched); otherwise it is
+/// `states[state_index[c]]`, with the indices strictly increasing and below `n_states` (e.g. one
+/// history per particle, as LAMMPS' `fix wall/gran` keeps them; `RSL_ERR_INVALID_ARGUMENT`
+/// otherwise, nothing processed).
+///
+/// In double precision the loads and states equal `rsl_contact_step_wall_accumulate`'s with
+/// `RSL_INPUT_SLIDING_STIFFNESS` / `RSL_INPUT_SLIDING_DAMPING` set from `params` bit for bit,
+/// at every SIMD level, added in the same order. Not taken here (use the per-contact call): the
+/// setup pass, bonds, a limit force, and per-contact rolling or twisting coefficients.
+///
+/// # Safety
+/// Every array must hold the stated number of elements (`particles`, `force`, `torque`:
+/// `n_particles`; `states`: `n_states`; `spheres`, `walls`, `state_index` and the others:
+/// `n_contacts`); NULL only for an empty array (`state_index` may be NULL). `states`, `force`,
+/// `torque`, `report` and `params->energy` must not overlap each other or any input. The model
+/// must not be modified during the call.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_batch_step_walls(
+    model: *const rsl_model,
+    particles: *const rsl_sphere,
+    n_particles: usize,
+    spheres: *const u32,
+    walls: *const rsl_wall,
+    n_contacts: usize,
+    normal_force: *const f64,
+    normal_stiffness: *const f64,
+    params: *const rsl_batch_contact_params,
+    dt: f64,
+    options: *const rsl_batch_options,
+    states: *mut rsl_contact_state,
+    n_states: usize,
+    state_index: *const usize,
+    force: *mut rsl_vec3,
+    torque: *mut rsl_vec3,
+    report: *mut rsl_batch_report,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract of this function; every helper checks NULL and alignment.
+        let report = unsafe { report_out(report)? };
+        let result = (|| -> Result<_, FfiError> {
+            // SAFETY: as above.
+            let (m, particles, spheres, walls, f_n, opts, force, torque) = unsafe {
+                (
+                    live_model(model)?,
+                    slice_in(particles, n_particles, "particles")?,
+                    slice_in(spheres, n_contacts, "spheres")?,
+                    slice_in(walls, n_contacts, "walls")?,
+                    slice_in(normal_force, n_contacts, "normal_force")?,
+                    optional_input(options, "options")?,
+                    slice_out(force, n_particles, "force")?,
+                    slice_out(torque, n_particles, "torque")?,
+                )
+            };
+            // SAFETY: as above.
+            let k_n = unsafe { stiffness_in(m, normal_stiffness, n_contacts)? };
+            let config = BatchConfig::from_options(opts)?;
+            // SAFETY: as above.
+            let slots = unsafe { slice_out(states, n_states, "states")? };
+            let states = if state_index.is_null() {
+                if n_states < n_contacts {
+                    return Err(FfiError::Core(Error::InvalidArgument(
+                        "n_states is smaller than n_contacts (state_index NULL)".to_string(),
+                    )));
+                }
+                OrderedOrIndexed::Ordered(&mut slots[..n_contacts])
+            } else {
+                // SAFETY: as above.
+                let index = unsafe { slice_in(state_index, n_contacts, "state_index")? };
+                OrderedOrIndexed::Indexed(IndexedGroups::from(IndexedStates::new(slots, index)?))
+            };
+            // SAFETY: as above.
+            let sliding = unsafe { sliding_in(m, params, n_contacts)? };
+            // SAFETY: as above.
+            let energy = unsafe { energy_in(m.model.track_energy, params, n_contacts)? };
+            let access = WallSteps {
+                particles,
+                spheres,
+                walls,
+                normal_force: f_n,
+                normal_stiffness: k_n,
+                states,
+                force,
+                torque,
+                sliding,
+                energy,
+            };
+            access.check()?;
+            Ok((m, access, config))
+        })();
+        match result {
+            Err(e) => refuse(report, e),
+            Ok((m, mut access, config)) => finish(
+                report,
+                run_step(&m.model, dt, &mut access, config).map(|b| (b, config.simd)),
+            ),
+        }
+    })
 }
 
 /// Doubles per contact of `model`'s packed history, for `rsl_batch_step_history`. The record

@@ -10,10 +10,12 @@
 //! in `laws::fast_path`, the C structs they read in place in `layout`). Its modules import only
 //! lower ones, no cycle: `status` and `types` (leaves); this module's checks (imports `status`);
 //! `decompose` and `handle`; `contact` (imports `handle`); `model` (imports `contact`, `decompose`,
-//! `handle`) and `batch` (imports `decompose`, `handle`). The unit-test modules `params_tests` and
-//! `extreme_input_tests` import any of them.
+//! `handle`) and `batch` (imports `decompose`, `handle`). The unit-test modules `params_tests`,
+//! `batch_walls_tests` and `extreme_input_tests` import any of them.
 
 pub mod batch;
+#[cfg(test)]
+mod batch_walls_tests;
 pub mod contact;
 pub mod decompose;
 #[cfg(test)]

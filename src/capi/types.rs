@@ -5,6 +5,7 @@
 
 pub use crate::layout::{rsl_sphere, rsl_vec3};
 
+use crate::batch::{WallSlot, WALL_WORDS};
 use crate::decompose::{Decomposition, Wall};
 use crate::geometry::ContactGeometry;
 
@@ -31,6 +32,19 @@ impl From<&rsl_wall> for Wall<f64> {
             velocity: w.velocity.into(),
             angular_velocity: w.angular_velocity.into(),
         }
+    }
+}
+
+impl WallSlot for rsl_wall {
+    #[inline(always)]
+    fn words(&self) -> [f64; WALL_WORDS] {
+        let (p, n, v, w) = (
+            &self.point,
+            &self.normal,
+            &self.velocity,
+            &self.angular_velocity,
+        );
+        [p.x, p.y, p.z, n.x, n.y, n.z, v.x, v.y, v.z, w.x, w.y, w.z]
     }
 }
 
