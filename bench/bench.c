@@ -178,7 +178,8 @@
  *                   physics: reads the particle (80 B), f_n[c] and the wall (96 B: point,
  *                   normal, velocity, angular velocity), reads and writes the 112-byte state,
  *                   read-modify-writes the particle's force and torque (24 B each). Every
- *                   access is sequential (no prefetch variant: the hardware prefetchers see it)
+ *                   access is sequential (no prefetch variant: the hardware prefetchers see it;
+ *                   the batch_wall rows also read spheres[c], 4 B)
  *   baseline_wall_c  hand-written C, inline, one loop, LAMMPS style (as baseline_c: LAMMPS'
  *                   project-rescale transport with its 1e-10 threshold and its clip, the same
  *                   lammps_spring and lammps_twist), the full set's physics for a wall as the
@@ -198,6 +199,14 @@
  *                   (no test of the values)
  *   percontact_wall_c  rsl_contact_step_wall_accumulate per contact (the library adds the
  *                   sphere's loads to its force and torque)
+ *   batch_wall_<p>_<l>_c  rsl_batch_step_walls over the whole scene in one call (spheres[c] = c,
+ *                   states in contact order: state_index NULL; params and normal_stiffness
+ *                   NULL: the model's k_t and gamma_t, as percontact_wall_c's input sets no
+ *                   flag), precision p = f64|f32, SIMD level l = scalar|avx2|avx512 (each
+ *                   level rsl_batch_simd_support reports), as the batch_<p>_<l> rows of the
+ *                   pair groups (benches/batch.rs sets each against group full's of the same
+ *                   p and l, per contact). The f64 results equal baseline_wall_c's bit for bit
+ *                   (diff 0); the f32 diffs are their rounding.
  * LOADS_DIFF: max |difference| of the accumulated forces and torques from the set's baseline,
  * relative to the largest baseline force (torque) component; STATE_DIFF: the same for the
  * springs, twisting angle and normal of the states after the call; FLAGS: number of contacts
@@ -230,8 +239,10 @@ typedef struct {
     double *hx, *hv, *hw, *hr;
     /* Per-contact sliding stiffness and damping of the percontact_params rows (KT and GT). */
     double *kt, *gt;
-    /* The group wall's scene: each contact's wall (contact c is particle c); NULL elsewhere. */
+    /* The group wall's scene: each contact's wall and sphere (contact c is particle c:
+     * spheres[c] = c, for rsl_batch_step_walls); NULL elsewhere. */
     rsl_wall *walls;
+    uint32_t *spheres;
 } scene;
 
 static uint64_t rng_state = 12345;
@@ -542,7 +553,7 @@ static void finish(scene *s) {
 }
 
 static rsl_model *MODEL; /* the model of the current measurement */
-enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE, HISTORY, INDEXED, MATERIALS };
+enum { PARTICLE_MAJOR, CONTACT_MAJOR, DECOMPOSE, HISTORY, INDEXED, MATERIALS, WALLS };
 static int MODE;
 /* Packed histories of the history_* rows (rsl_batch_step_history): HWORDS doubles per contact,
  * room for 13. */
@@ -1117,6 +1128,15 @@ static void batch(scene *s) {
         what = "rsl_batch_step_params";
         status = rsl_batch_step_params(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, s->kn,
                                        &PARAMS, DT, &OPTS, s->st, s->f, s->t, &REP);
+    } else if (MODE == WALLS) {
+        /* the group wall: particle spheres[c] against walls[c], states in contact order
+         * (state_index NULL), the model's k_t and gamma_t (params NULL: percontact_wall's
+         * input sets no flag), kn NULL (percontact_wall's normal_stiffness 0; the full set's
+         * laws do not read it) */
+        what = "rsl_batch_step_walls";
+        status = rsl_batch_step_walls(MODEL, s->p, s->np, s->spheres, s->walls, s->nc, s->fn,
+                                      s->kn, NULL, DT, &OPTS, s->st, s->nc, NULL, s->f, s->t,
+                                      &REP);
     } else if (MODE == HISTORY) {
         what = "rsl_batch_step_history";
         status = rsl_batch_step_history(MODEL, s->p, s->np, s->pairs, s->nc, s->fn, s->kn, DT,
@@ -1524,6 +1544,8 @@ static void build_walls(const scene *s, scene *w) {
     w->p = s->p;
     w->fn = xmalloc(n * sizeof *w->fn);
     w->walls = xmalloc(n * sizeof *w->walls);
+    w->spheres = xmalloc(n * sizeof *w->spheres);
+    for (size_t c = 0; c < n; c++) w->spheres[c] = (uint32_t)c;
     w->st0_slip = xcalloc(n, sizeof *w->st0_slip);
     w->st0 = w->st0_slip;
     w->st = xcalloc(n, sizeof *w->st);
@@ -1578,7 +1600,8 @@ static void build_walls(const scene *s, scene *w) {
 }
 
 static void free_walls(scene *w) {
-    free(w->fn), free(w->walls), free(w->st0_slip), free(w->st), free(w->f), free(w->t);
+    free(w->fn), free(w->walls), free(w->spheres), free(w->st0_slip), free(w->st), free(w->f);
+    free(w->t);
     memset(w, 0, sizeof *w);
 }
 
@@ -1938,6 +1961,26 @@ int main(int argc, char **argv) {
         if (want("percontact_wall_unchecked_c"))
             row(g, "percontact_wall_unchecked_c", timeit(&w, percontact_wall, reps), 1, &w);
         UNCHECKED = 0;
+        /* rsl_batch_step_walls over the whole scene in one call, each precision and level */
+        MODE = WALLS;
+        for (int prec = 0; prec < 2; prec++) {
+            const char *p = prec ? "f32" : "f64";
+            memset(&OPTS, 0, sizeof OPTS);
+            OPTS.precision = prec ? RSL_PRECISION_F32 : RSL_PRECISION_F64;
+            for (uint32_t lv = RSL_SIMD_SCALAR; lv <= RSL_SIMD_AVX512; lv++) {
+                if (!((simd >> lv) & 1)) continue;
+                OPTS.simd = lv;
+                snprintf(name, sizeof name, "batch_wall_%s_%s_c", p, LEVEL[lv]);
+                if (!want(name)) continue;
+                double tb = timeit(&w, batch, reps);
+                if (REP.simd != lv) {
+                    fprintf(stderr, "%s: asked for SIMD level %u, ran %u\n", name, lv, REP.simd);
+                    exit(1);
+                }
+                row(g, name, tb, 1, &w);
+            }
+        }
+        MODE = PARTICLE_MAJOR;
         free_walls(&w);
     }
     return 0;

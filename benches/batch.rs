@@ -2,7 +2,9 @@
 //! (each the faster of its loop without and with the library's prefetches), the per-contact C
 //! calls and the memory floor, for three physics sets (full, rolltwist, sliding), on two
 //! workloads, out of cache (1,200,000 contacts) and in cache (2,000 contacts), and for
-//! sphere-wall contacts (group wall, workload A: one per particle, the full set's physics).
+//! sphere-wall contacts (group wall, workload A: one per particle, the full set's physics; the
+//! per-contact calls and `rsl_batch_step_walls`, whose rows are also set against the full set's
+//! `rsl_batch_step` rows of the same precision and SIMD level, per contact of each group).
 //!
 //! Workload A (the headline): a jittered FCC packing whose particles are spatially sorted as a
 //! DEM code keeps them (LAMMPS' atom sort: lexicographic order of small spatial bins), contacts
@@ -20,9 +22,12 @@
 //! and 2,000 contacts, 3 calls per row) for a smoke test; `--slip=F` (passed to the driver: the
 //! fraction of contacts that start beyond each law's limit, default 0.25; the scalar baselines'
 //! clip branches are mispredicted in proportion, which the `[noslip]` rows, measured on the same
-//! histories with every spring below its limit, bracket). A full run takes about 4.5 minutes of
-//! driver time on a 2-core machine (5 calls per row out of cache took 5 minutes). The table is
-//! printed and written to `target/<profile>/bench_table.md` (`target/release/bench_table.md`).
+//! histories with every spring below its limit, bracket); `--set=NAME` (passed to the driver:
+//! only the physics set full, rolltwist or sliding, or the group wall, which runs on workload A
+//! only; `--quick --set=wall` is the quickest look at the wall rows); `--help`. A full run
+//! takes about 4.5 minutes of driver time on a 2-core machine (5 calls per row out of cache took
+//! 5 minutes). The table is printed and written to `target/<profile>/bench_table.md`
+//! (`target/release/bench_table.md`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -194,7 +199,8 @@ fn indexed(name: &str) -> bool {
 }
 
 /// Rows of the group `wall` (sphere-wall contacts, workload A), which has its own baseline and
-/// floor: `floor_wall`, `baseline_wall_c`, `percontact_wall_c`, `percontact_wall_unchecked_c`.
+/// floor: `floor_wall`, `baseline_wall_c`, `percontact_wall_c`, `percontact_wall_unchecked_c`,
+/// `batch_wall_<p>_<l>_c` (`rsl_batch_step_walls`).
 fn wall(name: &str) -> bool {
     name.contains("_wall")
 }
@@ -285,7 +291,59 @@ fn table(runs: &[Run], workload: char, contacts: usize) -> String {
             row.state,
         );
     }
-    md
+    md + &wall_against_pair(runs)
+}
+
+/// The pair row a wall batch row is set against: `batch_wall_<p>_<l>_c` (group wall) and
+/// `batch_<p>_<l>` (group full: the same physics, `rsl_batch_step`, the same precision and SIMD
+/// level).
+fn pair_batch_of(wall_row: &str) -> Option<String> {
+    let rest = wall_row.strip_prefix("batch_wall_")?.strip_suffix("_c")?;
+    Some(format!("batch_{rest}"))
+}
+
+/// The wall batch rows against the pair batch rows, per contact: the driver gives each row in
+/// ns per contact of its own group (the wall group has one contact per particle, about a sixth
+/// of the pair group's contacts), so the ratio is of those; median of the same-run ratios.
+/// Empty when the run has no wall batch row.
+fn wall_against_pair(runs: &[Run]) -> String {
+    let mut md = String::new();
+    for row in &runs[0].rows {
+        let Some(pair) = pair_batch_of(&row.name).filter(|_| row.group == "wall") else {
+            continue;
+        };
+        let name = row.name.as_str();
+        let wall_ns = median(runs.iter().map(|r| r.ns("wall", name).unwrap()).collect());
+        let (pair_ns, ratio) = if runs.iter().all(|r| r.ns("full", &pair).is_some()) {
+            (
+                format!(
+                    "{:.2}",
+                    median(runs.iter().map(|r| r.ns("full", &pair).unwrap()).collect())
+                ),
+                format!(
+                    "{:.2}",
+                    median(
+                        runs.iter()
+                            .map(|r| r.ns("wall", name).unwrap() / r.ns("full", &pair).unwrap())
+                            .collect()
+                    )
+                ),
+            )
+        } else {
+            ("-".to_string(), "-".to_string())
+        };
+        md += &format!("| {name} | {wall_ns:.2} | {pair} | {pair_ns} | {ratio} |\n");
+    }
+    if md.is_empty() {
+        return md;
+    }
+    "\nWall batch against pair batch (`rsl_batch_step_walls` in group wall against \
+     `rsl_batch_step` in group full, the same physics, precision and SIMD level; each in ns per \
+     contact of its own group; \"-\": group full not run):\n\n\
+     | wall row | ns/contact | pair row (full) | ns/contact | wall / pair |\n\
+     |---|---:|---|---:|---:|\n"
+        .to_string()
+        + &md
 }
 
 fn cpu_info() -> (String, String) {
@@ -338,11 +396,27 @@ fn huge_pages() -> String {
 }
 
 fn main() {
+    if std::env::args().any(|a| a == "--help" || a == "-h") {
+        println!(
+            "cargo bench --bench batch [-- [--quick] [--slip=F] [--set=NAME]]\n  \
+             --quick     one run per workload, 100,000 and 2,000 contacts, 3 calls per row\n  \
+             --slip=F    fraction of contacts starting beyond each law's limit (default 0.25)\n  \
+             --set=NAME  only the physics set full, rolltwist or sliding, or the group wall \
+             (sphere-wall contacts; workload A only)\n\
+             The rows are described at the top of bench/bench.c."
+        );
+        return;
+    }
     let quick = std::env::args().any(|a| a == "--quick");
-    // `--slip=F` is passed to the driver (fraction of contacts beyond each law's limit).
+    // `--slip=F` and `--set=NAME` are passed to the driver (fraction of contacts beyond each
+    // law's limit; only one physics set or the group wall).
     let extra: Vec<String> = std::env::args()
-        .filter(|a| a.starts_with("--slip="))
+        .filter(|a| a.starts_with("--slip=") || a.starts_with("--set="))
         .collect();
+    let only_set = extra
+        .iter()
+        .find_map(|a| a.strip_prefix("--set="))
+        .map(str::to_string);
     let exe = build_driver();
     let (cpu, simd) = cpu_info();
     let load_start = load_average();
@@ -355,12 +429,17 @@ fn main() {
         &[(1_200_000, 4), (2_000, 7)]
     };
     let runs = if quick { 1 } else { 5 };
-    let workloads = ['A', 'B'];
+    // The group wall runs on workload A only.
+    let workloads: &[char] = if only_set.as_deref() == Some("wall") {
+        &['A']
+    } else {
+        &['A', 'B']
+    };
     let started = Instant::now();
     let mut results: BTreeMap<(char, usize), Vec<Run>> = BTreeMap::new();
     for &(n, reps) in sizes {
         for r in 0..runs {
-            for &w in &workloads {
+            for &w in workloads {
                 eprintln!(
                     "[{:6.1} s] workload {w}, {n} contacts, run {}/{runs}",
                     started.elapsed().as_secs_f64(),
@@ -399,7 +478,9 @@ fn main() {
          spring below its limit (no clip taken: the baselines' best case) and are divided by \
          the baseline on those histories. The group wall (workload A: one sphere-wall contact \
          per particle, the full set's physics) is divided by its own baseline and floor \
-         (baseline_wall_c, floor_wall). The rows are described \
+         (baseline_wall_c, floor_wall); its batch rows (rsl_batch_step_walls) are also set \
+         against group full's rsl_batch_step rows of the same precision and SIMD level, per \
+         contact of each group (the table after each workload A table). The rows are described \
          at the top of `bench/bench.c`. † different physics from the group's baseline (ratio \
          given for cost only). Diffs: max |difference| from the baseline relative to the \
          largest baseline component (loads: per-particle forces and torques; state: springs, \
@@ -412,11 +493,14 @@ fn main() {
             .join(", ")
     );
 
-    // Summary: the main kernels against the baseline of the same physics set.
+    // Summary: the main kernels against the baseline of the same physics set (left out when
+    // --set ran none of the sets).
+    let summary_start = md.len();
+    let mut summarised = false;
     md += "\n### Summary: median of same-run ratios to the hand-written C baseline of the same \
            physics\n\n| physics | kernel |";
     let mut columns = Vec::new();
-    for &w in &workloads {
+    for &w in workloads {
         for &(n, _) in sizes {
             md += &format!(" {w}, {n} |");
             columns.push((w, n));
@@ -426,6 +510,14 @@ fn main() {
     md += &"---:|".repeat(columns.len());
     md += "\n";
     for group in ["full", "rolltwist", "sliding"] {
+        // a set left out with --set
+        if !results
+            .values()
+            .any(|rs| rs[0].rows.iter().any(|r| r.group == group))
+        {
+            continue;
+        }
+        summarised = true;
         let first = &results[&columns[0]][0];
         let l64 = auto_level(first, group, "f64").unwrap_or_default();
         let l32 = auto_level(first, group, "f32").unwrap_or_default();
@@ -507,8 +599,11 @@ fn main() {
             md += "\n";
         }
     }
+    if !summarised {
+        md.truncate(summary_start);
+    }
 
-    for &w in &workloads {
+    for &w in workloads {
         for &(n, _) in sizes {
             md += &table(&results[&(w, n)], w, n);
         }
