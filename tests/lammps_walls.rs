@@ -492,7 +492,7 @@ fn bad_wall_arguments_are_lammps_errors(exe: &Path) {
             g("zplane 0.0 NULL"),
             "zplane",
             "5",
-            "fix walls wall/gran/rollslide: rsl_contact_step_wall failed for atom 5 and the wall zplane lo: non-finite",
+            "fix walls wall/gran/rollslide: rsl_batch_step_walls failed for atom 5 and the wall zplane lo: non-finite",
         ),
         (
             2,

@@ -233,11 +233,12 @@ std::string FixWallGranRollslide::wall_name(int wall_side) const
   return std::string(names[wallstyle]) + (wall_side == LO ? " lo" : " hi");
 }
 
-void FixWallGranRollslide::library_error(int32_t status, tagint atom_id, int wall_side)
+void FixWallGranRollslide::library_error(const char *call, int32_t status, tagint atom_id,
+                                         int wall_side)
 {
   // error->one: the failing contact is on this rank only.
-  error->one(FLERR, std::string("fix ") + id +
-                        " wall/gran/rollslide: rsl_contact_step_wall failed for atom " +
+  error->one(FLERR, std::string("fix ") + id + " wall/gran/rollslide: " + call +
+                        " failed for atom " +
                         std::to_string(atom_id) + " and the wall " + wall_name(wall_side) + ": " +
                         rsl_status_str(status) + " (" + rsl_last_error_message() + ")");
 }
@@ -247,6 +248,17 @@ void FixWallGranRollslide::make_model(bool track_energy)
   std::string message;
   rsl_model *m = granular::new_model(preset, coeffs, track_energy, message);
   if (m == nullptr) fail("the library refused the coefficients: " + message);
+  if (preset == RSL_PRESET_LAMMPS_2021) {
+    // Stock fix wall/gran's arm: the sliding force acts at the full radius R from the centre
+    // (pair granular's, which the preset reproduces, is R - delta/2), and the sliding velocity
+    // takes R (w x n): the library's branch rule RSL_BRANCH_RADII for this wall (the preset's
+    // rolling radius, R for a flat wall, unchanged).
+    const int32_t st = rsl_model_set_geometry(m, RSL_BRANCH_RADII, RSL_ROLLING_RADIUS_EFFECTIVE);
+    if (st != RSL_OK) {
+      rsl_model_free(m);
+      fail(std::string("the library refused the wall's branch rule: ") + rsl_status_str(st));
+    }
+  }
   rsl_model_free(model);
   model = m;
   model_tracks_energy = track_energy;
@@ -316,6 +328,8 @@ void FixWallGranRollslide::post_force(int vflag)
   int *mask = atom->mask;
   tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
+  const bool batched = !setup_pass && !evflag && wallstyle != ZCYLINDER;
+  chunk.clear();
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
@@ -392,6 +406,15 @@ void FixWallGranRollslide::post_force(int vflag)
     w.velocity = {vw[0], vw[1], vw[2]};
     w.angular_velocity = {spin[0], spin[1], spin[2]};
 
+    // The steps that tally the virial, the setup pass and the cylinder go one contact at a
+    // time; the others are gathered into chunks, each stepped by one batch call.
+    if (batched) {
+      if (chunk.size() == CHUNK || (chunk.size() > 0 && !chunk.same_coefficients(nf)))
+        flush_chunk(dt);
+      chunk.add(i, s, w, nf, energy ? granular::normal_dissipation(nf, vnnr, dt) : 0.0);
+      continue;
+    }
+
     rsl_contact_input in;
     memset(&in, 0, sizeof in);
     in.normal_force = nf.force;
@@ -422,30 +445,16 @@ void FixWallGranRollslide::post_force(int vflag)
     }
     rsl_contact_loads out;
     const int32_t st = rsl_contact_step_wall(model, &s, &w, &in, &history[i], &out);
-    if (st != RSL_OK) library_error(st, atom->tag_enable ? tag[i] : (tagint) i, wall_side);
+    if (st != RSL_OK)
+      library_error("rsl_contact_step_wall", st, atom->tag_enable ? tag[i] : (tagint) i,
+                    wall_side);
 
     f[i][0] += out.force1.x;
     f[i][1] += out.force1.y;
     f[i][2] += out.force1.z;
-    if (preset == RSL_PRESET_LAMMPS_2021) {
-      // Stock fix wall/gran's torque: the sliding force acts at the full radius R from the
-      // centre (pair granular's arm, which the library's LAMMPS_2021 preset reproduces, is
-      // R - delta/2), then the twisting and rolling torques, in stock's order.
-      const rsl_vec3 &fs = out.sliding_force;
-      torque[i][0] -= rad * (ny * fs.z - nz * fs.y);
-      torque[i][1] -= rad * (nz * fs.x - nx * fs.z);
-      torque[i][2] -= rad * (nx * fs.y - ny * fs.x);
-      torque[i][0] += out.twisting_torque.x;
-      torque[i][1] += out.twisting_torque.y;
-      torque[i][2] += out.twisting_torque.z;
-      torque[i][0] += out.rolling_moment.x;
-      torque[i][1] += out.rolling_moment.y;
-      torque[i][2] += out.rolling_moment.z;
-    } else {
-      torque[i][0] += out.torque1.x;
-      torque[i][1] += out.torque1.y;
-      torque[i][2] += out.torque1.z;
-    }
+    torque[i][0] += out.torque1.x;
+    torque[i][1] += out.torque1.y;
+    torque[i][2] += out.torque1.z;
 
     if (evflag) {
       double vir[6] = {out.force1.x * d[0], out.force1.y * d[1], out.force1.z * d[2],
@@ -478,6 +487,101 @@ void FixWallGranRollslide::post_force(int vflag)
       spring_energy[3 * i + 2] = e.elastic_twisting;
     }
   }
+  if (chunk.size() > 0) flush_chunk(dt);
+}
+
+// A chunk's contacts: each atom's sphere, wall, normal force and sliding coefficients, its
+// history's index (the atom's), and for the energy compute the normal dashpot's dissipation
+// and the normal spring's energy.
+void FixWallGranRollslide::Chunk::clear()
+{
+  atoms.clear();
+  spheres.clear();
+  walls.clear();
+  normal_force.clear();
+  sliding_stiffness.clear();
+  sliding_damping.clear();
+  state_index.clear();
+  normal_dissipated.clear();
+  normal_elastic.clear();
+}
+
+bool FixWallGranRollslide::Chunk::same_coefficients(const granular::NormalForce &nf) const
+{
+  return nf.per_contact_stiffness == per_contact_stiffness &&
+      nf.per_contact_damping == per_contact_damping;
+}
+
+void FixWallGranRollslide::Chunk::add(int i, const rsl_sphere &s, const rsl_wall &w,
+                                      const granular::NormalForce &nf, double dissipated)
+{
+  if (atoms.empty()) {
+    per_contact_stiffness = nf.per_contact_stiffness;
+    per_contact_damping = nf.per_contact_damping;
+  }
+  atoms.push_back(i);
+  spheres.push_back(s);
+  walls.push_back(w);
+  normal_force.push_back(nf.force);
+  sliding_stiffness.push_back(nf.sliding_stiffness);
+  sliding_damping.push_back(nf.sliding_damping);
+  state_index.push_back((size_t) i);
+  normal_dissipated.push_back(dissipated);
+  normal_elastic.push_back(nf.elastic);
+}
+
+// Steps the chunk in one rsl_batch_step_walls call (each contact its own sphere record, its
+// loads accumulated into the chunk's zeroed buffers) and adds the loads to the atoms, in the
+// atoms' order, as the per-contact step does.
+void FixWallGranRollslide::flush_chunk(double dt)
+{
+  const size_t n = chunk.size();
+  if (sphere_of_contact.size() < n) {
+    const size_t first = sphere_of_contact.size();
+    sphere_of_contact.resize(n);
+    for (size_t c = first; c < n; c++) sphere_of_contact[c] = (uint32_t) c;
+  }
+  const rsl_vec3 zero = {0.0, 0.0, 0.0};
+  chunk_force.assign(n, zero);
+  chunk_torque.assign(n, zero);
+  rsl_batch_contact_params params;
+  memset(&params, 0, sizeof params);
+  if (chunk.per_contact_stiffness) params.sliding_stiffness = chunk.sliding_stiffness.data();
+  if (chunk.per_contact_damping) params.sliding_damping = chunk.sliding_damping.data();
+  if (energy) {
+    chunk_energy.resize(n);
+    params.energy = chunk_energy.data();
+  }
+  rsl_batch_report report;
+  const int32_t st = rsl_batch_step_walls(
+      model, chunk.spheres.data(), n, sphere_of_contact.data(), chunk.walls.data(), n,
+      chunk.normal_force.data(), nullptr, &params, dt, nullptr, history.data(), history.size(),
+      chunk.state_index.data(), chunk_force.data(), chunk_torque.data(), &report);
+  if (st != RSL_OK) {
+    const size_t c = report.first_failed < n ? (size_t) report.first_failed : 0;
+    const int i = chunk.atoms[c];
+    library_error("rsl_batch_step_walls", st, atom->tag_enable ? atom->tag[i] : (tagint) i,
+                  side[i]);
+  }
+  double **f = atom->f;
+  double **torque = atom->torque;
+  for (size_t c = 0; c < n; c++) {
+    const int i = chunk.atoms[c];
+    f[i][0] += chunk_force[c].x;
+    f[i][1] += chunk_force[c].y;
+    f[i][2] += chunk_force[c].z;
+    torque[i][0] += chunk_torque[c].x;
+    torque[i][1] += chunk_torque[c].y;
+    torque[i][2] += chunk_torque[c].z;
+    if (energy) {
+      const rsl_contact_energy &e = chunk_energy[c];
+      energy->tally(i, 1.0, true, e, chunk.normal_dissipated[c], chunk.normal_elastic[c]);
+      spring_energy[3 * i] = e.elastic_sliding;
+      spring_energy[3 * i + 1] = e.elastic_rolling;
+      spring_energy[3 * i + 2] = e.elastic_twisting;
+    }
+  }
+  chunk.clear();
 }
 
 // Atom i's wall contact ended: its history is dropped, and the energy its springs held after

@@ -77,8 +77,30 @@ class FixWallGranRollslide : public Fix {
   std::vector<int> side;
   std::vector<double> spring_energy;    // 3 per atom
 
+  // The contacts gathered for one batch call (see post_force), and the call's buffers.
+  static constexpr size_t CHUNK = 256;
+  struct Chunk {
+    std::vector<int> atoms;
+    std::vector<rsl_sphere> spheres;
+    std::vector<rsl_wall> walls;
+    std::vector<double> normal_force, sliding_stiffness, sliding_damping;
+    std::vector<size_t> state_index;
+    std::vector<double> normal_dissipated, normal_elastic;
+    bool per_contact_stiffness = false, per_contact_damping = false;
+    size_t size() const { return atoms.size(); }
+    void clear();
+    bool same_coefficients(const granular::NormalForce &nf) const;
+    void add(int i, const rsl_sphere &s, const rsl_wall &w, const granular::NormalForce &nf,
+             double dissipated);
+  };
+  Chunk chunk;
+  std::vector<uint32_t> sphere_of_contact;    // 0, 1, 2, ...: each contact its own sphere
+  std::vector<rsl_vec3> chunk_force, chunk_torque;
+  std::vector<rsl_contact_energy> chunk_energy;
+  void flush_chunk(double dt);
+
   [[noreturn]] void fail(const std::string &message);
-  [[noreturn]] void library_error(int32_t status, tagint atom, int wall_side);
+  [[noreturn]] void library_error(const char *call, int32_t status, tagint atom, int wall_side);
   std::string wall_name(int wall_side) const;
   void make_model(bool track_energy);
   void end_contact(int i);
