@@ -337,15 +337,20 @@ void FixWallGranRollslide::post_force(int vflag)
 
     // d: from the wall's nearest point to the atom's centre; rwall: the wall's radius of
     // curvature as stock uses it (0: flat).
+    // rsq = |d|^2 from the components just computed (rather than read back from d, which was
+    // written by a run-time index: the load of the whole array then waited on that store, a
+    // fifth of the fix's samples on in.heap, for every atom of every step).
     double d[3] = {0.0, 0.0, 0.0};
-    double rwall = 0.0, delxy = 0.0;
+    double rwall = 0.0, delxy = 0.0, rsq = 0.0;
     int wall_side = NO_WALL;
     if (wallstyle == ZCYLINDER) {
       delxy = sqrt(x[i][0] * x[i][0] + x[i][1] * x[i][1]);
       const double delr = cylradius - delxy;
       if (delr <= rad) {
-        d[0] = -delr / delxy * x[i][0];
-        d[1] = -delr / delxy * x[i][1];
+        const double d0 = -delr / delxy * x[i][0], d1 = -delr / delxy * x[i][1];
+        d[0] = d0;
+        d[1] = d1;
+        rsq = d0 * d0 + d1 * d1;
         const bool inside = delxy < cylradius;
         rwall = inside ? -2 * cylradius : 2 * cylradius;
         wall_side = inside ? LO : HI;
@@ -353,15 +358,12 @@ void FixWallGranRollslide::post_force(int vflag)
     } else {
       const int k = wallstyle;
       const double del1 = x[i][k] - wlo, del2 = whi - x[i][k];
-      if (has_lo && (!has_hi || del1 < del2)) {
-        d[k] = del1;
-        wall_side = LO;
-      } else {
-        d[k] = -del2;
-        wall_side = HI;
-      }
+      const bool low = has_lo && (!has_hi || del1 < del2);
+      const double dk = low ? del1 : -del2;
+      d[k] = dk;
+      rsq = dk * dk;
+      wall_side = low ? LO : HI;
     }
-    const double rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     if (wall_side == NO_WALL || rsq > rad * rad) {
       // Not touching: the contact (if any) ends and its history is dropped, as stock does.
       if (side[i] != NO_WALL) end_contact(i);
