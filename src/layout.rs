@@ -54,6 +54,21 @@ pub struct rsl_sphere {
     pub radius: f64,
 }
 
+/// A flat wall in rigid motion (body 2 of a sphere-wall contact).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct rsl_wall {
+    /// Any point of the wall surface; the reference point of its motion.
+    pub point: rsl_vec3,
+    /// Outward normal, from the wall towards the sphere's side; any non-zero length (it is
+    /// normalised). The contact normal is its opposite.
+    pub normal: rsl_vec3,
+    /// Velocity of the wall's material point at `point`.
+    pub velocity: rsl_vec3,
+    /// Angular velocity of the wall.
+    pub angular_velocity: rsl_vec3,
+}
+
 impl From<&rsl_sphere> for Sphere<f64> {
     fn from(s: &rsl_sphere) -> Self {
         Sphere {

@@ -1,13 +1,13 @@
 //! The batch slot traits for the C layouts of [`crate::layout`]: how the kernels read an
-//! `rsl_sphere` and an `rsl_contact_state`, add to an `rsl_vec3` accumulator and write an
-//! `rsl_batch_loads` (also as the nine doubles the SIMD copiers transpose into), and which cache
-//! lines they prefetch for each.
+//! `rsl_sphere`, an `rsl_wall` and an `rsl_contact_state`, add to an `rsl_vec3` accumulator and
+//! write an `rsl_batch_loads` (also as the nine doubles the SIMD copiers transpose into), and
+//! which cache lines they prefetch for each.
 
 use super::prefetch::{prefetch, prefetch_at};
-use super::{AddSlot, LoadsSlot, PairLoads, SphereSlot, StateSlot};
+use super::{AddSlot, LoadsSlot, PairLoads, SphereSlot, StateSlot, WallSlot, WALL_WORDS};
 use crate::decompose::Sphere;
 use crate::laws::step::ContactState;
-use crate::layout::{rsl_batch_loads, rsl_contact_state, rsl_sphere, rsl_vec3};
+use crate::layout::{rsl_batch_loads, rsl_contact_state, rsl_sphere, rsl_vec3, rsl_wall};
 
 impl SphereSlot for rsl_sphere {
     #[inline(always)]
@@ -61,6 +61,26 @@ impl StateSlot for rsl_contact_state {
             i,
             std::mem::offset_of!(rsl_contact_state, slip_flags),
         );
+    }
+}
+
+impl WallSlot for rsl_wall {
+    #[inline(always)]
+    fn words(&self) -> [f64; WALL_WORDS] {
+        let (p, n, v, w) = (
+            &self.point,
+            &self.normal,
+            &self.velocity,
+            &self.angular_velocity,
+        );
+        [p.x, p.y, p.z, n.x, n.y, n.z, v.x, v.y, v.z, w.x, w.y, w.z]
+    }
+    #[inline(always)]
+    fn touch_in(slots: &[Self], i: usize) {
+        // 96 bytes: two or three cache lines.
+        prefetch_at(slots, i, 0);
+        prefetch_at(slots, i, std::mem::offset_of!(rsl_wall, velocity));
+        prefetch_at(slots, i, std::mem::offset_of!(rsl_wall, angular_velocity.z));
     }
 }
 

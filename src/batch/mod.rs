@@ -45,11 +45,10 @@ mod x86;
 #[cfg(all(test, target_arch = "x86_64"))]
 pub(crate) use block::state_words;
 // For the SIMD copiers of `x86::transpose`, which exist on x86-64 only.
-pub(crate) use block::WALL_WORDS;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use block::{group_of, pair_bodies_by_reference, store_loads_by_value, BODY_WORDS};
 pub use block::{step_kernel, GroupCopy, GroupRow, GroupRowsMut, LoadRows, PortableCopy};
-pub(crate) use block::{GROUP, STATE_WORDS};
+pub(crate) use block::{GROUP, STATE_WORDS, WALL_WORDS};
 pub use dispatch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
 pub use history::Record;
 pub use lanes::{Lanes, MAX_LANES};

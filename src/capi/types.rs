@@ -1,28 +1,12 @@
 //! Plain `#[repr(C)]` structs that cross the boundary, and their conversions to the core types.
-//! The ones the engine reads and writes in place (`rsl_vec3`, `rsl_sphere` here) are defined in
-//! the core's `layout` and re-exported.
+//! The ones the engine reads and writes in place (`rsl_vec3`, `rsl_sphere`, `rsl_wall` here) are
+//! defined in the core's `layout` and re-exported.
 #![allow(non_camel_case_types)]
 
-pub use crate::layout::{rsl_sphere, rsl_vec3};
+pub use crate::layout::{rsl_sphere, rsl_vec3, rsl_wall};
 
-use crate::batch::{WallSlot, WALL_WORDS};
 use crate::decompose::{Decomposition, Wall};
 use crate::geometry::ContactGeometry;
-
-/// A flat wall in rigid motion (body 2 of a sphere-wall contact).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct rsl_wall {
-    /// Any point of the wall surface; the reference point of its motion.
-    pub point: rsl_vec3,
-    /// Outward normal, from the wall towards the sphere's side; any non-zero length (it is
-    /// normalised). The contact normal is its opposite.
-    pub normal: rsl_vec3,
-    /// Velocity of the wall's material point at `point`.
-    pub velocity: rsl_vec3,
-    /// Angular velocity of the wall.
-    pub angular_velocity: rsl_vec3,
-}
 
 impl From<&rsl_wall> for Wall<f64> {
     fn from(w: &rsl_wall) -> Self {
@@ -32,19 +16,6 @@ impl From<&rsl_wall> for Wall<f64> {
             velocity: w.velocity.into(),
             angular_velocity: w.angular_velocity.into(),
         }
-    }
-}
-
-impl WallSlot for rsl_wall {
-    #[inline(always)]
-    fn words(&self) -> [f64; WALL_WORDS] {
-        let (p, n, v, w) = (
-            &self.point,
-            &self.normal,
-            &self.velocity,
-            &self.angular_velocity,
-        );
-        [p.x, p.y, p.z, n.x, n.y, n.z, v.x, v.y, v.z, w.x, w.y, w.z]
     }
 }
 
