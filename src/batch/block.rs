@@ -24,7 +24,7 @@
 use super::{
     conv3, energy_terms, geometry_in, lane_bits, needs_normal_stiffness, step_error, BatchReport,
     Body2, Lanes, LoadsSlot, Materials, PairLoads, SlidingOverrides, StateSlot, StepAccess,
-    ENERGY_TERMS, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
+    WallSlot, ENERGY_TERMS, SLIP_ROLLING, SLIP_SLIDING, SLIP_TWISTING, TOUCH_AHEAD,
 };
 use crate::batch::SphereSlot;
 use crate::decompose::Sphere;
@@ -160,6 +160,13 @@ pub trait GroupCopy<P, S>: Copy {
     {
         store_states_by_value(rows, slip, states);
     }
+    /// `rows[q][k]` = word `q` of `walls[k]` ([`WALL_WORDS`] order), for the sphere-wall
+    /// access. The default copies value by value; the C layer's copiers transpose the walls
+    /// that are their doubles in memory ([`WallSlot::doubles`]).
+    #[inline(always)]
+    fn walls<W: WallSlot>(self, walls: [&W; GROUP], rows: [&mut GroupRow; WALL_WORDS]) {
+        walls_by_value(walls, rows);
+    }
     /// This copier, told that a step changes only the state words of `words` (bit `q`: word
     /// `q`, `written_words`): its [`GroupCopy::store_states`] may then leave the other words
     /// alone, since the states still hold what [`GroupCopy::states`] read (the default ignores
@@ -193,6 +200,19 @@ fn store_states_by_value<'a, S: StateSlot + 'a>(
 pub(crate) fn store_loads_by_value<O: LoadsSlot>(rows: [&GroupRow; 9], out: &mut [O; GROUP]) {
     for (k, slot) in out.iter_mut().enumerate() {
         slot.set(&PairLoads::in_slot(rows, k));
+    }
+}
+
+/// [`GroupCopy::walls`]' default: value by value.
+#[inline(always)]
+pub(crate) fn walls_by_value<W: WallSlot>(
+    walls: [&W; GROUP],
+    mut rows: [&mut GroupRow; WALL_WORDS],
+) {
+    for (k, wall) in walls.iter().enumerate() {
+        for (row, v) in rows.iter_mut().zip(wall.words()) {
+            row[k] = v;
+        }
     }
 }
 

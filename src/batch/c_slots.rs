@@ -76,6 +76,17 @@ impl WallSlot for rsl_wall {
         [p.x, p.y, p.z, n.x, n.y, n.z, v.x, v.y, v.z, w.x, w.y, w.z]
     }
     #[inline(always)]
+    fn doubles(&self) -> Option<&[f64; WALL_WORDS]> {
+        const _: () = assert!(std::mem::size_of::<rsl_wall>() == WALL_WORDS * 8);
+        const _: () = assert!(std::mem::offset_of!(rsl_wall, normal) == 24);
+        const _: () = assert!(std::mem::offset_of!(rsl_wall, velocity) == 48);
+        const _: () = assert!(std::mem::offset_of!(rsl_wall, angular_velocity) == 72);
+        // SAFETY: `rsl_wall` is `repr(C)`: four `rsl_vec3` (each `repr(C)`, three `f64`) at
+        // offsets 0, 24, 48, 72 and size 96 (asserted above), in `WALL_WORDS` order: the layout
+        // of `[f64; 12]` with the same alignment. The result borrows `self`.
+        Some(unsafe { &*(self as *const rsl_wall).cast::<[f64; WALL_WORDS]>() })
+    }
+    #[inline(always)]
     fn touch_in(slots: &[Self], i: usize) {
         // 96 bytes: two or three cache lines.
         prefetch_at(slots, i, 0);

@@ -46,7 +46,9 @@ mod x86;
 pub(crate) use block::state_words;
 // For the SIMD copiers of `x86::transpose`, which exist on x86-64 only.
 #[cfg(target_arch = "x86_64")]
-pub(crate) use block::{group_of, pair_bodies_by_reference, store_loads_by_value, BODY_WORDS};
+pub(crate) use block::{
+    group_of, pair_bodies_by_reference, store_loads_by_value, walls_by_value, BODY_WORDS,
+};
 pub use block::{step_kernel, GroupCopy, GroupRow, GroupRowsMut, LoadRows, PortableCopy};
 pub(crate) use block::{GROUP, STATE_WORDS, WALL_WORDS};
 pub use dispatch::{run_decompose, run_history_step, run_step, BatchConfig, Simd};
@@ -181,6 +183,13 @@ pub trait WallSlot {
     /// The wall's values in [`WALL_WORDS`] order: point, normal (as given), velocity,
     /// angular velocity.
     fn words(&self) -> [f64; WALL_WORDS];
+    /// The wall as its [`WALL_WORDS`] doubles in memory, when it is laid out so (the C
+    /// `rsl_wall`): the SIMD copiers then transpose it. `None` (the default): copied value by
+    /// value.
+    #[inline(always)]
+    fn doubles(&self) -> Option<&[f64; WALL_WORDS]> {
+        None
+    }
     /// The wall in `f64`, its normal as given.
     #[inline(always)]
     fn wall(&self) -> Wall<f64> {
@@ -1105,15 +1114,11 @@ impl<P: SphereSlot, W: WallSlot, St: ContactStates, V: AddSlot> StepAccess
         copy.states(states, rows.states);
         let [px, py, pz, vx, vy, vz, wx, wy, wz, _radius] = rows.body2;
         let [nx, ny, nz] = rows.wall_normal;
-        let mut targets: [&mut GroupRow; WALL_WORDS] =
-            [px, py, pz, nx, ny, nz, vx, vy, vz, wx, wy, wz];
         let walls = &self.walls[first..first + n];
-        for k in 0..GROUP {
-            let words = walls[k.min(n - 1)].words();
-            for (row, v) in targets.iter_mut().zip(words) {
-                row[k] = v;
-            }
-        }
+        copy.walls(
+            block::group_of(|k| &walls[k.min(n - 1)]),
+            [px, py, pz, nx, ny, nz, vx, vy, vz, wx, wy, wz],
+        );
         index_ok
     }
 }

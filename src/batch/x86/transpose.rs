@@ -25,8 +25,8 @@
 
 use crate::batch::history::Record;
 use crate::batch::{
-    group_of, pair_bodies_by_reference, store_loads_by_value, GroupCopy, GroupRow, LoadsSlot,
-    BODY_WORDS, GROUP, STATE_WORDS,
+    group_of, pair_bodies_by_reference, store_loads_by_value, walls_by_value, GroupCopy, GroupRow,
+    LoadsSlot, WallSlot, BODY_WORDS, GROUP, STATE_WORDS, WALL_WORDS,
 };
 use crate::layout::{rsl_contact_state, rsl_sphere};
 use std::mem::{offset_of, size_of};
@@ -380,6 +380,49 @@ unsafe fn avx512_bodies(src: [*const f64; GROUP], rows: [&mut GroupRow; BODY_WOR
     }
 }
 
+/// The walls of a group as rows ([`GroupCopy::walls`]) by three 4 x 4 transpositions of words
+/// 0..4, 4..8, 8..12 (ymm registers).
+///
+/// # Safety
+/// The CPU must have AVX2; each `src[k]` must point to `WALL_WORDS` readable doubles.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn avx2_walls(src: [*const f64; GROUP], rows: [&mut GroupRow; WALL_WORDS]) {
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11] = rows;
+    // SAFETY: the caller's contract: words 0..4, 4..8 and 8..12 are inside each wall.
+    unsafe {
+        avx2::words_to_rows(src, 0, [r0, r1, r2, r3]);
+        avx2::words_to_rows(src, 4, [r4, r5, r6, r7]);
+        avx2::words_to_rows(src, 8, [r8, r9, r10, r11]);
+    }
+}
+
+/// As [`avx2_walls`], by an AVX-512 8 x 8 transposition of words 0..8 and a 4 x 4 one of
+/// words 8..12.
+///
+/// # Safety
+/// The CPU must have AVX-512 F and DQ, and AVX2; each `src[k]` must point to `WALL_WORDS`
+/// readable doubles.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn avx512_walls(src: [*const f64; GROUP], rows: [&mut GroupRow; WALL_WORDS]) {
+    let [r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11] = rows;
+    // SAFETY: as in `avx2_walls`: words 0..8 and 8..12 are inside each wall.
+    unsafe {
+        avx512::words_to_rows(src, 0, [r0, r1, r2, r3, r4, r5, r6, r7]);
+        avx2::words_to_rows(src, 8, [r8, r9, r10, r11]);
+    }
+}
+
+/// The first doubles of a group of walls laid out as `WALL_WORDS` doubles
+/// ([`WallSlot::doubles`]), or `None` for another layout.
+#[inline(always)]
+fn wall_doubles<W: WallSlot>(walls: &[&W; GROUP]) -> Option<[*const f64; GROUP]> {
+    walls[0].doubles()?;
+    let ptr = |k: usize| walls[k].doubles().map_or(std::ptr::null(), |d| d.as_ptr());
+    Some(group_of(ptr))
+}
+
 /// Pointers to the first double of each state, to write (each valid for its whole struct).
 fn doubles_mut(states: &mut [rsl_contact_state; GROUP]) -> [*mut f64; GROUP] {
     states
@@ -521,6 +564,16 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx2Copy {
     }
 
     #[inline(always)]
+    fn walls<W: WallSlot>(self, walls: [&W; GROUP], rows: [&mut GroupRow; WALL_WORDS]) {
+        match wall_doubles(&walls) {
+            // SAFETY: an `Avx2Copy` exists only on a CPU with AVX2 (`Avx2Copy::assume`); each
+            // pointer is that of a wall's `WALL_WORDS` doubles (`WallSlot::doubles`).
+            Some(src) => unsafe { avx2_walls(src, rows) },
+            None => walls_by_value(walls, rows),
+        }
+    }
+
+    #[inline(always)]
     fn store_states(
         self,
         rows: [&GroupRow; STATE_WORDS],
@@ -616,6 +669,17 @@ impl GroupCopy<rsl_sphere, rsl_contact_state> for Avx512Copy {
             avx512::pairs_to_rows(src, 8, [r8, r9]);
             avx512::pairs_to_rows(src, 10, [r10, &mut *r11]);
             avx512::pairs_to_rows(src, 11, [r11, r12]);
+        }
+    }
+
+    #[inline(always)]
+    fn walls<W: WallSlot>(self, walls: [&W; GROUP], rows: [&mut GroupRow; WALL_WORDS]) {
+        match wall_doubles(&walls) {
+            // SAFETY: an `Avx512Copy` exists only on a CPU with AVX-512 F and DQ and AVX2
+            // (`Avx512Copy::assume`, `Simd::available`); each pointer is that of a wall's
+            // `WALL_WORDS` doubles (`WallSlot::doubles`).
+            Some(src) => unsafe { avx512_walls(src, rows) },
+            None => walls_by_value(walls, rows),
         }
     }
 
@@ -900,6 +964,57 @@ mod tests {
             eprintln!(
                 "transposition test: {ran} of the 2 SIMD copies ran (this CPU lacks the others)"
             );
+        }
+    }
+
+    /// The walls of a group: row `q`, slot `k` is word `q` of wall `k` (point, normal, velocity,
+    /// angular velocity), bit for bit the portable copy's, for the C `rsl_wall` (transposed by
+    /// the SIMD copies) and the core's `Wall` (value by value in every copy).
+    #[test]
+    fn walls_copy_as_the_portable_copy_does() {
+        use crate::decompose::Wall;
+        use crate::layout::rsl_wall;
+        let walls: Vec<rsl_wall> = (0..GROUP)
+            .map(|k| rsl_wall {
+                point: vec3(2000 + 100 * k),
+                normal: vec3(2003 + 100 * k),
+                velocity: vec3(2006 + 100 * k),
+                angular_velocity: vec3(2009 + 100 * k),
+            })
+            .collect();
+        let cores: Vec<Wall<f64>> = walls.iter().map(Wall::from).collect();
+        fn rows_of<W: WallSlot, X: GroupCopy<rsl_sphere, rsl_contact_state>>(
+            copy: X,
+            walls: &[W],
+        ) -> Vec<u64> {
+            let mut rows = [[f64::NAN; GROUP]; WALL_WORDS];
+            copy.walls(std::array::from_fn(|k| &walls[k]), rows.each_mut());
+            bits(&rows)
+        }
+        let expected = rows_of(PortableCopy, &walls);
+        assert_eq!(expected[4 * GROUP + 6], walls[6].normal.y.to_bits());
+        assert_eq!(
+            expected[11 * GROUP + 2],
+            walls[2].angular_velocity.z.to_bits()
+        );
+        assert_eq!(rows_of(PortableCopy, &cores), expected, "core walls");
+        let mut ran = 0;
+        if Simd::Avx2.available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            let copy = unsafe { Avx2Copy::assume() };
+            assert_eq!(rows_of(copy, &walls), expected, "AVX2");
+            assert_eq!(rows_of(copy, &cores), expected, "AVX2, core walls");
+            ran += 1;
+        }
+        if Simd::Avx512.available() {
+            // SAFETY: the CPU has AVX-512 F and DQ, and AVX2 (checked just above).
+            let copy = unsafe { Avx512Copy::assume() };
+            assert_eq!(rows_of(copy, &walls), expected, "AVX-512");
+            assert_eq!(rows_of(copy, &cores), expected, "AVX-512, core walls");
+            ran += 1;
+        }
+        if ran < 2 {
+            eprintln!("wall copy test: {ran} of the 2 SIMD copies ran (this CPU lacks the others)");
         }
     }
 
