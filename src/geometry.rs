@@ -267,11 +267,11 @@ pub fn pair_geometry_in_range<T: Real>(
         & g.branch2.simd_gt(zero)
 }
 
-/// [`unit_vector`] lane-wise, for the batch kernels of sphere-wall contacts: the unit vector
-/// of each lane with the bits the checked normalisation gives it (the plain `v / |v|` where that
-/// is accurate, else `v` divided by its largest absolute component first), and the lanes where
-/// `v` can be normalised (finite and non-zero; the others hold whatever the formulas give). The
-/// rescaled form is computed only when some lane needs it.
+/// The checked normalisation (`unit_vector`) lane-wise, for the batch kernels of sphere-wall
+/// contacts: the unit vector of each lane with the bits the checked normalisation gives it (the
+/// plain `v / |v|` where that is accurate, else `v` divided by its largest absolute component
+/// first), and the lanes where `v` can be normalised (finite and non-zero; the others hold
+/// whatever the formulas give). The rescaled form is computed only when some lane needs it.
 #[inline(always)]
 pub fn unit_vector_lanes<T: Real>(v: &Vec3<T>) -> (Vec3<T>, T::SimdBool) {
     let zero = T::zero();

@@ -81,7 +81,7 @@ pub type GroupRow = [f64; GROUP];
 
 /// One group's slots of a block's input rows, to fill: the two bodies' (`BODY_WORDS` order)
 /// and the state's (`STATE_WORDS` order). For a sphere-wall contact, body 2's rows hold the
-/// wall ([`WALL_WORDS`] order: its point, velocity and angular velocity where a sphere has its
+/// wall (`WALL_WORDS` order: its point, velocity and angular velocity where a sphere has its
 /// centre, velocity and angular velocity) and `wall_normal` its normal as given.
 pub struct GroupRowsMut<'a> {
     /// Body 1's rows.
@@ -160,7 +160,7 @@ pub trait GroupCopy<P, S>: Copy {
     {
         store_states_by_value(rows, slip, states);
     }
-    /// `rows[q][k]` = word `q` of `walls[k]` ([`WALL_WORDS`] order), for the sphere-wall
+    /// `rows[q][k]` = word `q` of `walls[k]` (`WALL_WORDS` order), for the sphere-wall
     /// access. The default copies value by value; the C layer's copiers transpose the walls
     /// that are their doubles in memory ([`WallSlot::doubles`]).
     #[inline(always)]

@@ -180,10 +180,10 @@ impl SphereSlot for Sphere<f64> {
 
 /// How the kernels read a wall of a sphere-wall contact (the C `rsl_wall`, or [`Wall`]).
 pub trait WallSlot {
-    /// The wall's values in [`WALL_WORDS`] order: point, normal (as given), velocity,
+    /// The wall's values in `WALL_WORDS` order: point, normal (as given), velocity,
     /// angular velocity.
     fn words(&self) -> [f64; WALL_WORDS];
-    /// The wall as its [`WALL_WORDS`] doubles in memory, when it is laid out so (the C
+    /// The wall as its `WALL_WORDS` doubles in memory, when it is laid out so (the C
     /// `rsl_wall`): the SIMD copiers then transpose it. `None` (the default): copied value by
     /// value.
     #[inline(always)]
