@@ -18,11 +18,12 @@ use super::batch::{
     RSL_BATCH_NONE, RSL_PRECISION_F32, RSL_PRECISION_F64, RSL_SIMD_AUTO,
 };
 use super::contact::{
-    contact_steps, rsl_contact_energy, rsl_contact_input, rsl_contact_loads, rsl_contact_state,
+    rsl_contact_energy, rsl_contact_input, rsl_contact_loads, rsl_contact_state,
     rsl_contact_step_wall, rsl_contact_step_wall_accumulate, RSL_INPUT_SLIDING_DAMPING,
     RSL_INPUT_SLIDING_STIFFNESS,
 };
 use super::model::{rsl_model, rsl_model_set_materials};
+use super::params_tests::{base_models, last_error, live};
 use super::status::{
     RSL_ERR_INVALID_ARGUMENT, RSL_ERR_INVALID_HANDLE, RSL_ERR_INVALID_TIME_STEP,
     RSL_ERR_MISALIGNED, RSL_ERR_NULL_POINTER, RSL_OK,
@@ -38,60 +39,6 @@ use crate::scalar::Vec3;
 
 /// The time step of every call.
 const DT: f64 = 1e-4;
-
-/// The calling thread's last error message.
-fn last_error() -> String {
-    let p = super::status::rsl_last_error_message();
-    // SAFETY: the library returns a valid NUL-terminated string, alive until the thread's next
-    // failing call.
-    unsafe { std::ffi::CStr::from_ptr(p) }
-        .to_string_lossy()
-        .into_owned()
-}
-
-/// A live handle of `model` with this CPU's per-contact steps.
-fn live(model: Model) -> rsl_model {
-    rsl_model::live(model, contact_steps())
-}
-
-/// The law sets of the test (as `params_tests`' `base_models`): LAMMPS' full set, the
-/// objective full set with Marshall twisting, LIGGGHTS' epsd2 (derived rolling stiffness, angle
-/// form: reads `k_n`) and cdt rolling (reads `k_n`).
-fn base_models() -> Vec<Model> {
-    let mut lammps = Model::with_preset(Preset::Lammps2021);
-    lammps.sliding.law = SlidingLaw::Linear;
-    (
-        lammps.sliding.stiffness,
-        lammps.sliding.damping,
-        lammps.sliding.friction,
-    ) = (2e5, 30.0, 0.5);
-    lammps.rolling.law = RollingLaw::Epsd;
-    (
-        lammps.rolling.stiffness,
-        lammps.rolling.damping,
-        lammps.rolling.friction,
-    ) = (1e5, 10.0, 0.1);
-    lammps.twisting.law = TwistingLaw::Sds;
-    (lammps.twisting.stiffness, lammps.twisting.damping) = (50.0, 0.5);
-    lammps.twisting.friction = 0.05;
-    lammps.sliding_transport = Transport::ProjectRescale;
-    lammps.rolling_transport = Transport::ProjectRescale;
-    let mut marshall = lammps;
-    marshall.preset = Preset::Objective;
-    marshall.sliding_transport = Transport::Exact;
-    marshall.rolling_transport = Transport::Exact;
-    marshall.twisting.law = TwistingLaw::Marshall;
-    let mut epsd2 = Model::with_preset(Preset::Liggghts38);
-    epsd2.sliding = lammps.sliding;
-    epsd2.rolling.law = RollingLaw::Epsd;
-    epsd2.rolling.form = RollingForm::Angle;
-    epsd2.rolling.stiffness_rule = RollingStiffness::Epsd2;
-    (epsd2.rolling.damping, epsd2.rolling.friction) = (1e-3, 0.05);
-    let mut cdt = epsd2;
-    cdt.rolling.law = RollingLaw::Cdt;
-    cdt.rolling.form = RollingForm::Length;
-    vec![lammps, marshall, epsd2, cdt]
-}
 
 /// `base_models` and each of them tracking energy.
 fn all_models() -> Vec<Model> {
@@ -607,6 +554,9 @@ enum Layout {
     IndexedTight,
 }
 
+/// The two layouts of the larger tests: states in contact order, and in place through an index.
+const TWO_LAYOUTS: [Layout; 2] = [Layout::Ordered { spare: 0 }, Layout::Indexed];
+
 const LAYOUTS: [Layout; 4] = [
     Layout::Ordered { spare: 0 },
     Layout::Ordered { spare: 5 },
@@ -866,6 +816,34 @@ fn options(simd: Simd, precision: u32) -> rsl_batch_options {
     }
 }
 
+/// The batch call at every double-precision level this CPU has, in each of `layouts`, against
+/// the per-contact sequence `w` (bit for bit); returns the number of contacts compared.
+fn assert_every_kernel(
+    model: &rsl_model,
+    s: &Scene,
+    a: Arrays,
+    w: &Want,
+    layouts: &[Layout],
+    what: &str,
+) -> usize {
+    let mut checked = 0;
+    for simd in levels() {
+        let o = options(simd, RSL_PRECISION_F64);
+        for &layout in layouts {
+            let g = run(model, s, a, Some(&o), layout);
+            assert_bits(
+                &g,
+                w,
+                simd.code(),
+                a.energy,
+                &format!("{what} {simd:?} {layout:?}"),
+            );
+            checked += s.len();
+        }
+    }
+    checked
+}
+
 /// The array sets of the double-precision comparison for `model`: `k_n` NULL where the model
 /// does not read it, per-contact `k_t` and `gamma_t` alone and together, material pairs with and
 /// without `k_t` (which wins over the pair's), and the energy output where the model tracks it.
@@ -947,15 +925,8 @@ fn walls_step_as_the_per_contact_accumulating_call_bit_for_bit() {
                         .iter()
                         .any(|e| e.elastic_sliding > 0.0 && e.dashpot_sliding > 0.0));
                 }
-                for simd in levels() {
-                    let o = options(simd, RSL_PRECISION_F64);
-                    for layout in LAYOUTS {
-                        let what = format!("{base:?} {order} order {a:?} {simd:?} {layout:?}");
-                        let g = run(&model, &s, a, Some(&o), layout);
-                        assert_bits(&g, &w, simd.code(), a.energy, &what);
-                        contacts_checked += s.len();
-                    }
-                }
+                let what = format!("{base:?} {order} order {a:?}");
+                contacts_checked += assert_every_kernel(&model, &s, a, &w, &LAYOUTS, &what);
                 // Default options: the best level; no report.
                 let what = format!("{base:?} {order} order {a:?} NULL options");
                 let g = run(&model, &s, a, None, Layout::Ordered { spare: 0 });
@@ -1051,14 +1022,8 @@ fn large_calls_that_prefetch_step_as_the_per_contact_call() {
         };
         let w = reference(&model, &sets, &s, a);
         assert!(w.status.iter().all(|&st| st == RSL_OK));
-        for simd in levels() {
-            let o = options(simd, RSL_PRECISION_F64);
-            for layout in [Layout::Ordered { spare: 0 }, Layout::Indexed] {
-                let what = format!("{base:?} {a:?} {simd:?} {layout:?} large");
-                let g = run(&model, &s, a, Some(&o), layout);
-                assert_bits(&g, &w, simd.code(), a.energy, &what);
-            }
-        }
+        let what = format!("{base:?} {a:?} large");
+        assert_every_kernel(&model, &s, a, &w, &TWO_LAYOUTS, &what);
     }
 }
 
@@ -1095,14 +1060,7 @@ fn every_law_set_and_preset_steps_walls_as_the_per_contact_call() {
                         "{base:?} {a:?}: per-contact step of contact {c}"
                     );
                 }
-                for simd in levels() {
-                    let o = options(simd, RSL_PRECISION_F64);
-                    for layout in [Layout::Ordered { spare: 0 }, Layout::Indexed] {
-                        let what = format!("{base:?} {a:?} {simd:?} {layout:?}");
-                        let g = run(&model, &s, a, Some(&o), layout);
-                        assert_bits(&g, &w, simd.code(), a.energy, &what);
-                    }
-                }
+                assert_every_kernel(&model, &s, a, &w, &TWO_LAYOUTS, &format!("{base:?} {a:?}"));
             }
         }
     }
@@ -1142,14 +1100,7 @@ fn partial_groups_and_blocks_step_as_the_per_contact_call() {
             ] {
                 let w = reference(&model, &sets, &s, a);
                 assert!(w.status.iter().all(|&st| st == RSL_OK));
-                for simd in levels() {
-                    let o = options(simd, RSL_PRECISION_F64);
-                    for layout in LAYOUTS {
-                        let what = format!("{base:?} {n} {a:?} {simd:?} {layout:?}");
-                        let g = run(&model, &s, a, Some(&o), layout);
-                        assert_bits(&g, &w, simd.code(), a.energy, &what);
-                    }
-                }
+                assert_every_kernel(&model, &s, a, &w, &LAYOUTS, &format!("{base:?} {n} {a:?}"));
             }
         }
     }
@@ -1210,14 +1161,8 @@ fn normals_whose_square_overflows_or_underflows_give_the_per_contact_bits() {
                         s.walls[c].normal
                     );
                 }
-                for simd in levels() {
-                    let o = options(simd, RSL_PRECISION_F64);
-                    for layout in LAYOUTS {
-                        let what = format!("{base:?} every {every} {a:?} {simd:?} {layout:?}");
-                        let g = run(&model, &s, a, Some(&o), layout);
-                        assert_bits(&g, &w, simd.code(), a.energy, &what);
-                    }
-                }
+                let what = format!("{base:?} every {every} {a:?}");
+                assert_every_kernel(&model, &s, a, &w, &LAYOUTS, &what);
             }
         }
     }

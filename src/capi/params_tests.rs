@@ -30,7 +30,7 @@ use crate::laws::model::{
 use crate::layout::tests::{state_bits, Lcg};
 
 /// The calling thread's last error message.
-fn last_error() -> String {
+pub(super) fn last_error() -> String {
     let p = super::status::rsl_last_error_message();
     // SAFETY: the library returns a valid NUL-terminated string, alive until the thread's next
     // failing call.
@@ -40,14 +40,14 @@ fn last_error() -> String {
 }
 
 /// A live handle of `model` with this CPU's per-contact steps.
-fn live(model: Model) -> rsl_model {
+pub(super) fn live(model: Model) -> rsl_model {
     rsl_model::live(model, contact_steps())
 }
 
 /// The law sets of the test, one per preset family and rolling law kind: LAMMPS' full set,
 /// the objective full set with Marshall twisting, LIGGGHTS' epsd2 (derived rolling stiffness,
 /// angle form) and cdt rolling.
-fn base_models() -> Vec<Model> {
+pub(super) fn base_models() -> Vec<Model> {
     let mut lammps = Model::with_preset(Preset::Lammps2021);
     lammps.sliding.law = SlidingLaw::Linear;
     (
