@@ -652,7 +652,7 @@ static inline __attribute__((always_inline)) void prefetch_lines(const scene *s,
         __builtin_prefetch(&s->t[i].z, 1, 2);
     }
     __builtin_prefetch(&st->sliding_spring.x, 1, 2);
-    __builtin_prefetch(&st->twisting_offaxis.x, 1, 2);
+    __builtin_prefetch(&st->model_memory.x, 1, 2);
     __builtin_prefetch(&st->slip_flags, 1, 2);
 }
 static inline __attribute__((always_inline)) void prefetch_contact(const scene *s, size_t e) {
@@ -1224,14 +1224,14 @@ static int KEEPS_SLIDING, KEEPS_NORMAL, KEEPS_OFFAXIS;
 static void probe_history_layout(void) {
     rsl_contact_state probe, back;
     memset(&probe, 0, sizeof probe);
-    probe.sliding_spring.x = probe.previous_normal.x = probe.twisting_offaxis.x = 1.0;
+    probe.sliding_spring.x = probe.previous_normal.x = probe.model_memory.x = 1.0;
     double record[13];
     if (rsl_history_from_state(MODEL, &probe, record) != RSL_OK ||
         rsl_history_to_state(MODEL, record, &back) != RSL_OK)
         exit(1);
     KEEPS_SLIDING = back.sliding_spring.x == 1.0;
     KEEPS_NORMAL = back.previous_normal.x == 1.0;
-    KEEPS_OFFAXIS = back.twisting_offaxis.x == 1.0;
+    KEEPS_OFFAXIS = back.model_memory.x == 1.0;
 }
 
 /* The packed histories back into the states for the comparison: the record's fields; the
@@ -1245,7 +1245,7 @@ static void unpack_history(scene *s) {
         s->st[c].rolling_spring = u.rolling_spring;
         s->st[c].twisting_angle = u.twisting_angle;
         if (KEEPS_NORMAL) s->st[c].previous_normal = u.previous_normal;
-        if (KEEPS_OFFAXIS) s->st[c].twisting_offaxis = u.twisting_offaxis;
+        if (KEEPS_OFFAXIS) s->st[c].model_memory = u.model_memory;
     }
 }
 

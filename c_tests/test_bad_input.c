@@ -247,7 +247,7 @@ static const field STATE[] = {
     F3(rsl_contact_state, sliding_spring, "state: sliding spring"),
     F3(rsl_contact_state, rolling_spring, "state: rolling spring"),
     F1(rsl_contact_state, twisting_angle, "state: twisting angle"),
-    F3(rsl_contact_state, twisting_offaxis, "state: twisting off-axis part"),
+    F3(rsl_contact_state, model_memory, "state: model memory"),
     F3(rsl_contact_state, previous_normal, "state: previous normal"),
 };
 static const field ROLLING[] = {

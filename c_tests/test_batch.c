@@ -233,7 +233,7 @@ void test_batch_packed_histories(void) {
         s.sliding_spring = rsl_test_vec(1, 2, 3);
         s.rolling_spring = rsl_test_vec(4, 5, 6);
         s.twisting_angle = 7;
-        s.twisting_offaxis = rsl_test_vec(8, 9, 10);
+        s.model_memory = rsl_test_vec(8, 9, 10);
         s.previous_normal = rsl_test_vec(11, 12, 13);
         s.slip_flags = 5;
         double h[13];
@@ -250,7 +250,7 @@ void test_batch_packed_histories(void) {
         CHECK(back.rolling_spring.z == 6 && back.twisting_angle == 7 && back.slip_flags == 0);
         CHECK(back.sliding_spring.y == (sliding ? 2 : 0));
         CHECK(back.previous_normal.x == (end >= 10 ? 11 : 0));
-        CHECK(back.twisting_offaxis.y == (end == 13 ? 9 : 0));
+        CHECK(back.model_memory.y == (end == 13 ? 9 : 0));
         CHECK_STATUS(rsl_history_from_state(m, NULL, h), RSL_ERR_NULL_POINTER);
         CHECK_STATUS(rsl_history_to_state(m, h, NULL), RSL_ERR_NULL_POINTER);
         rsl_model_free(m);

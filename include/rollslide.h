@@ -6,12 +6,12 @@
  * on body 1 unless named otherwise. Every fallible function returns an int32_t status
  * (RSL_OK = 0) and writes its outputs only on success.
  *
- * ABI: 0.3.0 breaks 0.2's: the scene kernels' constants, rsl_batch_scene, RSL_BATCH_GENERIC and
- * rsl_batch_report.scene are gone, and rsl_batch_contact_params gained `material` and `energy`:
- * rebuild against this header. 0.3.1 adds the unchecked per-contact entries, 0.3.2 the batch
- * call of sphere-wall contacts, rsl_batch_step_walls (both compatible with 0.3.0). The shared
- * library's SONAME carries the minor version while the major is 0 (librollslide.so.0.3), so a
- * program built against 0.2 does not load it.
+ * ABI: 0.4.0 breaks 0.3's: rsl_contact_energy gained `stiffness_change` (so rsl_contact_loads
+ * grew), and rsl_contact_state's `twisting_offaxis` is now `model_memory` (the same words; for
+ * models other than YADE_2023 the previous step's stiffnesses when the model tracks energy or
+ * rescales its sliding history, which also makes their history record 13 words): rebuild
+ * against this header. The shared library's SONAME carries the minor version while the major
+ * is 0 (librollslide.so.0.4), so a program built against 0.3 does not load it.
  */
 
 #ifndef ROLLSLIDE_H
@@ -178,6 +178,26 @@
 // Sliding law: linear spring-dashpot-slider (LAMMPS linear_history).
 #define RSL_SLIDING_LINEAR 1
 
+// Sliding history (`rsl_model_set_sliding_history`): the spring stores a displacement `xi`
+// (length), its load is `-k_t xi` with the step's `k_t`: a change of `k_t` keeps the stretch
+// and scales the load (LAMMPS `linear_history`, `mindlin`). Every preset's default but
+// YADE_2023's.
+#define RSL_SLIDING_HISTORY_DISPLACEMENT 0
+
+// Sliding history: the spring stores its elastic force (on body 1), built incrementally,
+// `F += -k_t v_s dt` with the step's `k_t`: a change of `k_t` keeps the load (LAMMPS
+// `mindlin/force`; YADE's shear force, the YADE_2023 preset's only history).
+#define RSL_SLIDING_HISTORY_FORCE 1
+
+// Sliding history: as `RSL_SLIDING_HISTORY_DISPLACEMENT`, and in a step whose `k_t` is below
+// the previous step's, the stored displacement is first scaled by `k_t / k_t,previous`
+// (LAMMPS `mindlin_rescale`: `a / a_previous` for its `k_t = 8 G a`).
+#define RSL_SLIDING_HISTORY_DISPLACEMENT_RESCALED 2
+
+// Sliding history: as `RSL_SLIDING_HISTORY_FORCE`, with the stored force scaled by
+// `k_t / k_t,previous` in a step whose `k_t` fell (LAMMPS `mindlin_rescale/force`).
+#define RSL_SLIDING_HISTORY_FORCE_RESCALED 3
+
 // Rolling law: none.
 #define RSL_ROLLING_NONE 0
 
@@ -294,14 +314,14 @@
 #define RSL_VERSION_MAJOR 0
 
 // Minor version of the header.
-#define RSL_VERSION_MINOR 3
+#define RSL_VERSION_MINOR 4
 
 // Patch version of the header.
-#define RSL_VERSION_PATCH 2
+#define RSL_VERSION_PATCH 0
 
 // The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
 // PATCH` (0.3.0 is 300): `#if RSL_VERSION_NUMBER >= 300`.
-#define RSL_VERSION_NUMBER 302
+#define RSL_VERSION_NUMBER 400
 
 // An opaque contact model (laws, parameters, transport, preset). Create with `rsl_model_new`,
 // release with `rsl_model_free`. A model is read-only during steps: one model can serve many
@@ -362,9 +382,15 @@ typedef struct rsl_contact_state {
   struct rsl_vec3 rolling_spring;
   // Twisting angle `theta_tw` (rad). YADE preset: its twisting moment along the previous normal.
   double twisting_angle;
-  // YADE preset only: the part of its vector twisting moment off the previous normal (YADE
-  // transports the twisting moment as a vector); zero for every other model.
-  struct rsl_vec3 twisting_offaxis;
+  // What the model remembers besides the springs. YADE preset: the part of its vector
+  // twisting moment off the previous normal (YADE transports the twisting moment as a
+  // vector). Every other preset, when the model tracks energy or has a rescaled sliding
+  // history (`RSL_SLIDING_HISTORY_*_RESCALED`): the stiffnesses of the sliding (`x`),
+  // rolling (`y`) and twisting (`z`) springs in the previous step (zero for a law that is
+  // off; finite and >= 0, else the step refuses the state), for the energy of stiffness
+  // changes and the rescaled histories. Otherwise carried unchanged. Zero for a fresh
+  // contact, like the rest of the state.
+  struct rsl_vec3 model_memory;
   // Normal of the previous step (zero before the first step).
   struct rsl_vec3 previous_normal;
   // `RSL_SLIP_*` bits of the last step (information only; not read by the library).
@@ -395,7 +421,8 @@ typedef struct rsl_batch_report {
 // Energy terms of one step (load times length; 0 unless the model tracks energy).
 //
 // Per mode (sliding, rolling, twisting), the work the step's load took out of the relative
-// motion equals the change of elastic energy plus dashpot plus slider (plus `transport`): the
+// motion equals the change of elastic energy plus dashpot plus slider, less `transport` and
+// `stiffness_change` (the energy the springs gained without work): the
 // budget of a simulation closes with them, up to the integrator's error (first order in the
 // time step). While a spring sticks its slider term is 0 and the work is the spring's midpoint
 // work plus the dashpot's; while it slips, the work is that of the applied, clipped load. Only
@@ -425,6 +452,14 @@ typedef struct rsl_contact_energy {
   // Change of elastic energy caused by transporting the springs this step (0 to rounding
   // for exact and project-rescale transport).
   double transport;
+  // Elastic energy the springs gained (negative: lost) this step because their stiffness
+  // changed since the previous step, with no work done: a per-contact `k_t` (Hertz-Mindlin's
+  // follows the contact radius), Marshall twisting's `k_t a^2 / 2`, a rolling stiffness
+  // derived from `k_n`, or a rescaled sliding history shrinking. The springs' energy at the
+  // start of the step with this step's stiffnesses, less their energy at the end of the
+  // previous step (the state keeps the previous stiffnesses in `model_memory`). 0 with the
+  // YADE_2023 preset, whose state has no room for them.
+  double stiffness_change;
 } rsl_contact_energy;
 
 // Per-contact coefficients of `rsl_batch_step_params`, `rsl_batch_step_indexed` and
@@ -859,10 +894,13 @@ int32_t rsl_batch_step_walls(const struct rsl_model *model,
 // spring (3), the twisting angle (1), the previous normal (3; kept when a transport reads it:
 // `RSL_TRANSPORT_EXACT` or `RSL_TRANSPORT_FIRST_ORDER`, as in the objective default; not with
 // `RSL_TRANSPORT_PROJECT_RESCALE`, `RSL_TRANSPORT_PROJECT` or `RSL_TRANSPORT_NONE`, as in the
-// LAMMPS_2021 and LIGGGHTS_3_8 presets), the twisting off-axis part (3; the YADE_2023 preset
-// only, which keeps its twisting moment as a vector). So, with a sliding law: 7 words for the
-// LAMMPS and LIGGGHTS presets, 10 for the objective one, 13 for YADE; without one, 4, 7 and
-// 10. The size follows the model's sliding law, preset and transports: ask for it after the
+// LAMMPS_2021 and LIGGGHTS_3_8 presets), the model memory (3; the YADE_2023 preset, which
+// keeps its twisting moment as a vector, and a model that tracks energy or has a rescaled
+// sliding history, which keeps the previous stiffnesses there; the previous normal is then
+// kept too). So, with a sliding law: 7 words for the LAMMPS and LIGGGHTS presets, 10 for the
+// objective one, 13 for YADE and for any model with a memory; without one, 4, 7 and 10. The
+// size follows the model's sliding law and history, preset, transports and energy tracking:
+// ask for it after the
 // model's last change, and repack (`rsl_history_to_state`, then `rsl_history_from_state`
 // with the new model) if one of these changes.
 // Writes `*words` on success.
@@ -885,7 +923,7 @@ int32_t rsl_history_from_state(const struct rsl_model *model,
 
 // Unpacks `model`'s history record (`rsl_model_history_size` doubles) into `state`: the
 // record's fields are copied, the others (the sliding spring, the previous normal and the
-// twisting off-axis part when the record does not keep them, the slip flags) are set to zero.
+// model memory when the record does not keep them, the slip flags) are set to zero.
 //
 // Preconditions (the behaviour is undefined if they do not hold):
 // `model` must be a live model; `history` readable for the record's doubles; `state` NULL or
@@ -1021,7 +1059,7 @@ int32_t rsl_contact_state_init(struct rsl_contact_state *state);
 // `v_r = R_r (w1 - w2) x n`, where both factors change sign) and negated in the angle form
 // (`theta_r` integrates `(w1 - w2)_t`; YADE and LIGGGHTS presets: the moment on body 1);
 // `twisting_angle` kept (`(w1 - w2) . n` is unchanged; YADE preset: the moment on body 1 along
-// the previous normal, which flips too); `twisting_offaxis` negated; `previous_normal`
+// the previous normal, which flips too); `model_memory` negated; `previous_normal`
 // negated (the normal points from body 1 to body 2); `slip_flags` kept. Negating every
 // field, as LAMMPS 20220106 does to its history when a pair's order changes, reverses the
 // rolling and twisting springs of the length form: wrong.
@@ -1327,6 +1365,24 @@ int32_t rsl_model_set_sliding(struct rsl_model *model,
                               double stiffness,
                               double damping,
                               double friction);
+
+// Sets what the sliding spring stores (`RSL_SLIDING_HISTORY_*`), hence what a change of its
+// stiffness from one step to the next does to it (a per-contact `k_t`, as Hertz-Mindlin's):
+// the loads are the same for every history while `k_t` is constant. The rescaled histories
+// compare each step's `k_t` with the previous step's, which the contact state keeps in
+// `model_memory` (so the model's history record, `rsl_model_history_size`, grows). The
+// YADE_2023 preset keeps `RSL_SLIDING_HISTORY_FORCE` (anything else is
+// `RSL_ERR_INVALID_PARAMETER`). Kept by `rsl_model_set_sliding`.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// As `rsl_model_set_geometry`.
+int32_t rsl_model_set_sliding_history(struct rsl_model *model, int32_t history);
+
+// Writes the model's sliding history (`RSL_SLIDING_HISTORY_*`) to `*history`.
+//
+// Preconditions (the behaviour is undefined if they do not hold):
+// `model` must be a live model; `history` writable.
+int32_t rsl_model_get_sliding_history(const struct rsl_model *model, int32_t *history);
 
 // Sets the twisting law (`RSL_TWISTING_*`) with `k_tw` (moment/rad) and `gamma_tw` (moment
 // time/rad), finite and >= 0, and `mu_tw` (a length: the limit is `mu_tw f_n`), >= 0 or

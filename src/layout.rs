@@ -100,9 +100,15 @@ pub struct rsl_contact_state {
     pub rolling_spring: rsl_vec3,
     /// Twisting angle `theta_tw` (rad). YADE preset: its twisting moment along the previous normal.
     pub twisting_angle: f64,
-    /// YADE preset only: the part of its vector twisting moment off the previous normal (YADE
-    /// transports the twisting moment as a vector); zero for every other model.
-    pub twisting_offaxis: rsl_vec3,
+    /// What the model remembers besides the springs. YADE preset: the part of its vector
+    /// twisting moment off the previous normal (YADE transports the twisting moment as a
+    /// vector). Every other preset, when the model tracks energy or has a rescaled sliding
+    /// history (`RSL_SLIDING_HISTORY_*_RESCALED`): the stiffnesses of the sliding (`x`),
+    /// rolling (`y`) and twisting (`z`) springs in the previous step (zero for a law that is
+    /// off; finite and >= 0, else the step refuses the state), for the energy of stiffness
+    /// changes and the rescaled histories. Otherwise carried unchanged. Zero for a fresh
+    /// contact, like the rest of the state.
+    pub model_memory: rsl_vec3,
     /// Normal of the previous step (zero before the first step).
     pub previous_normal: rsl_vec3,
     /// `RSL_SLIP_*` bits of the last step (information only; not read by the library).
@@ -117,7 +123,7 @@ impl From<&rsl_contact_state> for ContactState<f64> {
             sliding_spring: s.sliding_spring.into(),
             rolling_spring: s.rolling_spring.into(),
             twisting_angle: s.twisting_angle,
-            twisting_offaxis: s.twisting_offaxis.into(),
+            model_memory: s.model_memory.into(),
             previous_normal: s.previous_normal.into(),
         }
     }
@@ -238,7 +244,7 @@ pub(crate) mod tests {
         let vectors = [
             s.sliding_spring,
             s.rolling_spring,
-            s.twisting_offaxis,
+            s.model_memory,
             s.previous_normal,
         ];
         let mut b: Vec<u64> = vectors

@@ -143,9 +143,15 @@ fn scenario(np: usize, nc: usize, seed: u64) -> Scenario {
                 let r = rng.vec(1e-5);
                 s.rolling_spring = v(r - n * r.dot(&n));
                 s.twisting_angle = rng.uniform(-1e-3, 1e-3);
-                // YADE's off-axis twisting moment (the other models pass it through).
-                let o = rng.vec(1e-6);
-                s.twisting_offaxis = v(o - n * o.dot(&n));
+                // The model memory: the previous stiffnesses of a model that keeps them (the
+                // sliding one on either side of the test's k_t, so that rescaled histories shrink
+                // in some contacts and not in others); YADE reads it as its off-axis twisting
+                // moment; the other models pass it through.
+                s.model_memory = rsl_vec3 {
+                    x: rng.uniform(0.0, 4e5),
+                    y: rng.uniform(0.0, 2e5),
+                    z: rng.uniform(0.0, 100.0),
+                };
             }
             s
         })
@@ -903,7 +909,7 @@ fn packed_histories_step_as_full_states() {
         sc.states[30].twisting_angle = f64::INFINITY;
         for s in sc.states.iter_mut() {
             if end < 13 {
-                s.twisting_offaxis = rsl_vec3::default();
+                s.model_memory = rsl_vec3::default();
             }
             if end < 10 {
                 s.previous_normal = rsl_vec3::default();
@@ -1261,7 +1267,7 @@ fn state_word_bits(s: &rsl_contact_state) -> Vec<u64> {
     let mut b: Vec<u64> = [
         c.sliding_spring,
         c.rolling_spring,
-        c.twisting_offaxis,
+        c.model_memory,
         c.previous_normal,
     ]
     .iter()

@@ -88,7 +88,7 @@ fn case(rng: &mut Rng) -> Case {
         sliding_spring: tangent(rng.vec(5e-4)),
         rolling_spring: tangent(rng.vec(2e-4)),
         twisting_angle: rng.uniform(-1e-2, 1e-2),
-        twisting_offaxis: Vec3::zeros(),
+        model_memory: Vec3::zeros(),
         previous_normal: old,
     };
     Case {
@@ -123,7 +123,7 @@ fn state_values(s: &ContactState<f64>) -> Vec<f64> {
     let mut v: Vec<f64> = [
         s.sliding_spring,
         s.rolling_spring,
-        s.twisting_offaxis,
+        s.model_memory,
         s.previous_normal,
     ]
     .iter()
@@ -207,14 +207,15 @@ fn a_step_changes_exactly_its_written_fields() {
             w.sliding_spring,
             w.rolling_spring,
             w.twisting_angle,
-            w.twisting_offaxis,
+            w.model_memory,
             w.previous_normal,
         ];
         let mut changed = [false; 5];
         for i in 0..100 {
             let mut c = case(&mut rng);
-            // An off-axis part that a step could only keep by leaving it alone.
-            c.state.twisting_offaxis = rng.vec(1e-3);
+            // A model memory that a step could only keep by leaving it alone (>= 0: a model
+            // that keeps the previous stiffnesses refuses negative ones).
+            c.state.model_memory = rng.vec(1e-3).map(f64::abs);
             let mut s = c.state;
             contact_step_pair(model, &c.b1, &c.b2, &c.input, &mut s).unwrap();
             let v3 = |v: Vec3<f64>| v.map(f64::to_bits);
@@ -222,7 +223,7 @@ fn a_step_changes_exactly_its_written_fields() {
                 v3(s.sliding_spring) != v3(c.state.sliding_spring),
                 v3(s.rolling_spring) != v3(c.state.rolling_spring),
                 s.twisting_angle.to_bits() != c.state.twisting_angle.to_bits(),
-                v3(s.twisting_offaxis) != v3(c.state.twisting_offaxis),
+                v3(s.model_memory) != v3(c.state.model_memory),
                 v3(s.previous_normal) != v3(c.state.previous_normal),
             ];
             for f in 0..5 {
@@ -262,7 +263,7 @@ fn refused_inputs_give_the_same_error_and_leave_the_state() {
         ("sliding spring", |c, x| c.state.sliding_spring.x = x),
         ("rolling spring", |c, x| c.state.rolling_spring.y = x),
         ("twisting angle", |c, x| c.state.twisting_angle = x),
-        ("off-axis twist", |c, x| c.state.twisting_offaxis.z = x),
+        ("off-axis twist", |c, x| c.state.model_memory.z = x),
         ("previous normal", |c, x| c.state.previous_normal.x = x),
         ("coincident centres", |c, _| c.b2.position = c.b1.position),
     ];
@@ -364,10 +365,10 @@ fn step_result_test_never_passes_a_non_finite_result() {
             }
             // The state values the test leaves out are the input's (the off-axis twist is
             // written by YADE's vector twisting only).
-            if !written_fields(&model).twisting_offaxis {
+            if !written_fields(&model).model_memory {
                 assert_eq!(
-                    next.twisting_offaxis.map(f64::to_bits),
-                    c.state.twisting_offaxis.map(f64::to_bits)
+                    next.model_memory.map(f64::to_bits),
+                    c.state.model_memory.map(f64::to_bits)
                 );
             }
             if model.sliding.law == SlidingLaw::None {

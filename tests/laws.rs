@@ -51,6 +51,7 @@ fn gear_rolling_elastic_ramp_then_clip_at_mu_r_f_n() {
         stiffness: 1e3,
         damping: 0.0,
         friction: 0.5,
+        history: m.sliding.history,
     };
     let w1 = v(0.0, 0.0, 2.0);
     let b1 = sphere(v(0.0, 0.0, 0.0), v(0.0, 0.0, 0.0), w1, R1);
@@ -172,6 +173,7 @@ fn steady_sliding_dissipates_friction_work() {
         stiffness: k_t,
         damping: 0.0,
         friction: mu,
+        history: m.sliding.history,
     };
     m.rolling = epsd(100.0, 0.0, 0.1);
     m.track_energy = true;
@@ -224,6 +226,7 @@ fn rigid_rotation_history_error(transport: Transport) -> (f64, f64) {
         stiffness: 1e3,
         damping: 0.0,
         friction: f64::INFINITY,
+        history: m.sliding.history,
     };
     m.rolling = epsd(1e2, 0.0, f64::INFINITY);
     m.sliding_transport = transport;
@@ -297,6 +300,7 @@ fn random_model(rng: &mut Rng, preset: Preset) -> Model {
         stiffness: rng.uniform(1e2, 1e4),
         damping: rng.uniform(0.0, 5.0),
         friction: rng.uniform(0.1, 0.8),
+        history: m.sliding.history,
     };
     m.rolling = RollingParams {
         law: [RollingLaw::Cdt, RollingLaw::Viscous, RollingLaw::Epsd]
@@ -601,6 +605,7 @@ fn cdt_viscous_and_marshall_closed_forms() {
         stiffness: 400.0,
         damping: 2.0,
         friction: 0.5,
+        history: m.sliding.history,
     };
     m.twisting.law = TwistingLaw::Marshall;
     let n = d.geometry.normal;

@@ -43,6 +43,7 @@ fn model_for(law: &serde_json::Value) -> Model {
         stiffness: f("kt"),
         damping: 0.0, // per contact, below
         friction: f("mu_s"),
+        history: m.sliding.history,
     };
     m.rolling = RollingParams {
         law: RollingLaw::Epsd,

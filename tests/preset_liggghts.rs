@@ -76,6 +76,7 @@ fn liggghts_model(mat: &serde_json::Value) -> Model {
         stiffness: 0.0,
         damping: 0.0,
         friction: mat["coefficientFriction"].as_f64().unwrap(),
+        history: model.sliding.history,
     };
     model
 }
@@ -335,7 +336,7 @@ fn liggghts_rolling_laws_reproduce_liggghts_through_the_batch_call() {
                     state.sliding_spring = c_vec(&s.sliding_spring);
                     state.rolling_spring = c_vec(&s.rolling_spring);
                     state.twisting_angle = s.twisting_angle;
-                    state.twisting_offaxis = c_vec(&s.twisting_offaxis);
+                    state.model_memory = c_vec(&s.model_memory);
                     state.previous_normal = c_vec(&s.previous_normal);
                     (out.loads.force1, out.loads.torque1, out.loads.torque2)
                 } else {

@@ -56,6 +56,7 @@ fn models() -> Vec<(String, Model)> {
                             stiffness: 2.0e5,
                             damping: 20.0,
                             friction: 0.4,
+                            history: m.sliding.history,
                         };
                         m.rolling.law = r;
                         m.rolling.form = form;
@@ -146,7 +147,7 @@ fn mirror_error(
         (sb.sliding_spring - m.sliding_spring).amax(),
         (sb.rolling_spring - m.rolling_spring).amax(),
         (sb.twisting_angle - m.twisting_angle).abs(),
-        (sb.twisting_offaxis - m.twisting_offaxis).amax(),
+        (sb.model_memory - m.model_memory).amax(),
         (sb.previous_normal - m.previous_normal).amax(),
     ]
     .into_iter()
@@ -203,7 +204,7 @@ fn run_case(
             sa.sliding_spring.amax(),
             sa.rolling_spring.amax(),
             sa.twisting_angle.abs(),
-            sa.twisting_offaxis.amax(),
+            sa.model_memory.amax(),
             1.0,
         ]
         .into_iter()
@@ -247,7 +248,7 @@ fn mirroring_twice_is_the_identity() {
             sliding_spring: rng.vec(1.0),
             rolling_spring: rng.vec(1.0),
             twisting_angle: rng.uniform(-1.0, 1.0),
-            twisting_offaxis: rng.vec(1.0),
+            model_memory: rng.vec(1.0),
             previous_normal: rng.unit(),
         };
         assert_eq!(mirror_state(&model, &mirror_state(&model, &s)), s, "{name}");
@@ -265,6 +266,7 @@ fn negating_the_whole_history_is_caught() {
         stiffness: 2.0e5,
         damping: 20.0,
         friction: 0.4,
+        history: model.sliding.history,
     };
     model.rolling.law = RollingLaw::Epsd;
     model.rolling.stiffness = 1.0e5;
@@ -282,7 +284,7 @@ fn negating_the_whole_history_is_caught() {
         sliding_spring: -s.sliding_spring,
         rolling_spring: -s.rolling_spring,
         twisting_angle: -s.twisting_angle,
-        twisting_offaxis: -s.twisting_offaxis,
+        model_memory: -s.model_memory,
         previous_normal: -s.previous_normal,
     };
     let (le, _) = run_case(&model, &mut rng, negate_all);
@@ -303,7 +305,7 @@ fn rsl_contact_state_swap_is_mirror_state_through_the_c_abi() {
             sliding_spring: Vec3::new(1.0, 2.0, 3.0).into(),
             rolling_spring: Vec3::new(-4.0, 5.0, 6.0).into(),
             twisting_angle: 0.25,
-            twisting_offaxis: Vec3::new(0.0, 0.0, 0.0).into(),
+            model_memory: Vec3::new(0.0, 0.0, 0.0).into(),
             previous_normal: Vec3::new(0.0, 0.6, 0.8).into(),
             slip_flags: 3,
             reserved: 0,

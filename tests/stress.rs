@@ -462,6 +462,7 @@ fn stress_model(rng: &mut Rng, f_n: f64, len: f64) -> Model {
         stiffness: k,
         damping: k * 1e-3 * rng.uniform(0.0, 1.0),
         friction: rng.uniform(0.1, 0.8),
+        history: m.sliding.history,
     };
     m.rolling = RollingParams {
         law: RollingLaw::Epsd,

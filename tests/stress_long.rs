@@ -35,6 +35,7 @@ fn elastic_model(transport: Transport) -> Model {
         stiffness: 1e3,
         damping: 0.5,
         friction: f64::INFINITY,
+        history: m.sliding.history,
     };
     m.rolling = RollingParams {
         law: RollingLaw::Epsd,
@@ -160,6 +161,7 @@ fn sliding_at_the_limit(steps: u64) -> [f64; 4] {
         stiffness: k_t,
         damping: gamma_t,
         friction: mu,
+        history: m.sliding.history,
     };
     m.twisting = TwistingParams {
         law: TwistingLaw::Sds,

@@ -58,7 +58,7 @@ pub(crate) const BODY_WORDS: usize = 10;
 pub(crate) const WALL_WORDS: usize = 12;
 
 /// Doubles of a state, in the order of [`ContactState`]: sliding spring (3), rolling spring
-/// (3), twisting angle, twisting off-axis part (3), previous normal (3).
+/// (3), twisting angle, model memory (3), previous normal (3).
 pub(crate) const STATE_WORDS: usize = 13;
 
 /// Bit `q` set: word `q` of a state ([`STATE_WORDS`] order) belongs to a field the step can
@@ -68,7 +68,7 @@ pub(crate) fn written_words(f: WrittenFields) -> u16 {
     bits(f.sliding_spring, 0, 3)
         | bits(f.rolling_spring, 3, 3)
         | bits(f.twisting_angle, 6, 1)
-        | bits(f.twisting_offaxis, 7, 3)
+        | bits(f.model_memory, 7, 3)
         | bits(f.previous_normal, 10, 3)
 }
 
@@ -290,9 +290,9 @@ pub(crate) fn state_words(s: &ContactState<f64>) -> [f64; STATE_WORDS] {
         s.rolling_spring.y,
         s.rolling_spring.z,
         s.twisting_angle,
-        s.twisting_offaxis.x,
-        s.twisting_offaxis.y,
-        s.twisting_offaxis.z,
+        s.model_memory.x,
+        s.model_memory.y,
+        s.model_memory.z,
         s.previous_normal.x,
         s.previous_normal.y,
         s.previous_normal.z,
@@ -307,7 +307,7 @@ fn state_from_words(word: impl Fn(usize) -> f64) -> ContactState<f64> {
         sliding_spring: v(0),
         rolling_spring: v(3),
         twisting_angle: word(6),
-        twisting_offaxis: v(7),
+        model_memory: v(7),
         previous_normal: v(10),
     }
 }
@@ -645,7 +645,7 @@ impl<L: Lanes> LaneSource<L> for RowsAt<'_> {
             sliding_spring: load3(rows3(st, 0), at),
             rolling_spring: load3(rows3(st, 3), at),
             twisting_angle: L::load(&st[6][at..]),
-            twisting_offaxis: load3(rows3(st, 7), at),
+            model_memory: load3(rows3(st, 7), at),
             previous_normal: load3(rows3(st, 10), at),
         }
     }
@@ -721,7 +721,7 @@ impl<L: Lanes> LaneSource<L> for Single {
             sliding_spring: splat3(&s.sliding_spring),
             rolling_spring: splat3(&s.rolling_spring),
             twisting_angle: L::from_fn(|_| s.twisting_angle),
-            twisting_offaxis: splat3(&s.twisting_offaxis),
+            model_memory: splat3(&s.model_memory),
             previous_normal: splat3(&s.previous_normal),
         }
     }
@@ -810,9 +810,12 @@ impl<L: Lanes> FiniteLanes<L> {
 
 /// The lanes whose inputs the per-contact checked step accepts, as far as the geometry does not
 /// show it: finite motion, state and `f_n` (of either sign), a finite `k_n > 0` (`stiffness`,
-/// given when the model reads it), and finite per-contact `k_t, gamma_t >= 0` when the call
-/// gives them. `fused`: see [`FiniteLanes`].
+/// given when the model reads it), finite per-contact `k_t, gamma_t >= 0` when the call
+/// gives them, and previous stiffnesses >= 0 in the state when `memory`
+/// ([`Model::stiffness_memory`](crate::laws::model::Model::stiffness_memory)). `fused`: see
+/// [`FiniteLanes`].
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn inputs_ok<L: Lanes>(
     body1: &Sphere<L>,
     body2: &Sphere<L>,
@@ -820,6 +823,7 @@ fn inputs_ok<L: Lanes>(
     stiffness: Option<L>,
     sliding: (Option<L>, Option<L>),
     state: &ContactState<L>,
+    memory: bool,
     fused: bool,
 ) -> L::SimdBool {
     let zero = L::zero();
@@ -833,7 +837,7 @@ fn inputs_ok<L: Lanes>(
         &body2.angular_velocity,
         &state.sliding_spring,
         &state.rolling_spring,
-        &state.twisting_offaxis,
+        &state.model_memory,
         &state.previous_normal,
     ] {
         finite.add_vec(v);
@@ -845,6 +849,10 @@ fn inputs_ok<L: Lanes>(
     // Per-contact k_t and gamma_t: finite and >= 0, as the checked step requires.
     for x in [sliding.0, sliding.1].into_iter().flatten() {
         ok = ok & x.simd_ge(zero) & (x * zero).simd_eq(zero);
+    }
+    if memory {
+        let m = &state.model_memory;
+        ok = ok & m.x.simd_ge(zero) & m.y.simd_ge(zero) & m.z.simd_ge(zero);
     }
     ok
 }
@@ -875,7 +883,7 @@ fn results_ok<L: Lanes>(
     for (on, v) in [
         (written.sliding_spring, &state.sliding_spring),
         (written.rolling_spring, &state.rolling_spring),
-        (written.twisting_offaxis, &state.twisting_offaxis),
+        (written.model_memory, &state.model_memory),
     ] {
         if on {
             finite.add_vec(v);
@@ -940,7 +948,16 @@ fn step_inputs<L: Lanes>(
     let mut state = source.state();
     let fused = L::FUSED_PROBE;
     let kn = needs_kn.then_some(stiffness);
-    let inputs_ok = inputs_ok(&body1, &body2, force, kn, sliding, &state, fused);
+    let inputs_ok = inputs_ok(
+        &body1,
+        &body2,
+        force,
+        kn,
+        sliding,
+        &state,
+        model.stiffness_memory(),
+        fused,
+    );
     let out = contact_step_with_geometry(
         model,
         geometry_in::<L>(&g, &g),
@@ -1049,7 +1066,16 @@ fn step_lanes<L: Lanes>(
     let materials = LaneSource::<L>::materials(&src, given);
     let mut state = LaneSource::<L>::state(&src);
     let kn = needs_kn.then_some(stiffness);
-    let inputs_ok = inputs_ok(&body1, &body2, force, kn, sliding, &state, fused);
+    let inputs_ok = inputs_ok(
+        &body1,
+        &body2,
+        force,
+        kn,
+        sliding,
+        &state,
+        model.stiffness_memory(),
+        fused,
+    );
     let partner = match &wall {
         Some(w) => Partner::Wall(w),
         None => Partner::Sphere(&body2),
@@ -1077,8 +1103,8 @@ fn step_lanes<L: Lanes>(
     if written.twisting_angle {
         state.twisting_angle.store(&mut b.state[6][at..]);
     }
-    if written.twisting_offaxis {
-        store3(rows3_mut(&mut b.state, 7), at, &state.twisting_offaxis);
+    if written.model_memory {
+        store3(rows3_mut(&mut b.state, 7), at, &state.model_memory);
     }
     if written.previous_normal {
         store3(rows3_mut(&mut b.state, 10), at, &state.previous_normal);
@@ -1154,7 +1180,7 @@ fn step_one<L: Lanes, A: StepAccess>(
             sliding_spring: f64s(&r.state.sliding_spring),
             rolling_spring: f64s(&r.state.rolling_spring),
             twisting_angle: r.state.twisting_angle.lane(0),
-            twisting_offaxis: f64s(&r.state.twisting_offaxis),
+            model_memory: f64s(&r.state.model_memory),
             previous_normal: f64s(&r.state.previous_normal),
         };
         access.state(c).store(&new, slip_bits(&r.slips, 0));

@@ -37,7 +37,7 @@ impl StateSlot for rsl_contact_state {
         self.sliding_spring = s.sliding_spring.into();
         self.rolling_spring = s.rolling_spring.into();
         self.twisting_angle = s.twisting_angle;
-        self.twisting_offaxis = s.twisting_offaxis.into();
+        self.model_memory = s.model_memory.into();
         self.previous_normal = s.previous_normal.into();
         self.slip_flags = slip;
     }
@@ -45,7 +45,7 @@ impl StateSlot for rsl_contact_state {
     fn touch(&self) {
         // 112 bytes: two or three cache lines.
         prefetch(&self.sliding_spring.x);
-        prefetch(&self.twisting_offaxis.x);
+        prefetch(&self.model_memory.x);
         prefetch(&self.slip_flags);
     }
     #[inline(always)]
@@ -54,7 +54,7 @@ impl StateSlot for rsl_contact_state {
         prefetch_at(
             slots,
             i,
-            std::mem::offset_of!(rsl_contact_state, twisting_offaxis),
+            std::mem::offset_of!(rsl_contact_state, model_memory),
         );
         prefetch_at(
             slots,

@@ -7,13 +7,15 @@
 //! contact whatever the laws. A model whose transports do not read the previous normal
 //! (project-rescale, project, none: the LAMMPS and LIGGGHTS presets) needs only the three
 //! springs, 7 doubles; one whose transports do (exact, first order) needs the previous normal
-//! too, 10; YADE's vector twisting moment needs its off-axis part as well, 13. Without a
+//! too, 10; YADE's vector twisting moment needs its off-axis part as well, 13, and so does a
+//! model that keeps the previous step's stiffnesses in the same words (energy tracking, a
+//! rescaled sliding history). Without a
 //! sliding law the sliding spring is left out too (4, 7 or 10 doubles). The words left out are
 //! ones the step never reads, so stepping a record gives the same loads, and the same values of
 //! the words it keeps, as stepping the full state with those words zero.
 //!
 //! Record layout: the *full layout* is, in doubles, the sliding spring (3), the rolling spring
-//! (3), the twisting angle, the previous normal (3), the twisting off-axis part (3); a record is
+//! (3), the twisting angle, the previous normal (3), the model memory (3); a record is
 //! the run of it from word [`HistoryLayout::first`] (0, or `NO_SLIDING` = 3 without a sliding
 //! law) to word 7, 10 or 13.
 
@@ -63,10 +65,10 @@ impl HistoryLayout {
 /// law is off (the step neither reads nor writes the sliding spring then), to word
 /// `SPRINGS_ONLY` (7) when neither transport reads the previous normal, `WITH_NORMAL` (10)
 /// when one does, `WITH_OFFAXIS` (13) for a preset that keeps the twisting moment as a vector
-/// (YADE).
+/// (YADE) or a model that keeps the previous stiffnesses there ([`Model::stiffness_memory`]).
 pub fn history_layout(model: &Model) -> HistoryLayout {
     let reads_normal = |t: Transport| matches!(t, Transport::Exact | Transport::FirstOrder);
-    let end = if model.preset.conventions().twist_vector {
+    let end = if model.preset.conventions().twist_vector || model.stiffness_memory() {
         WITH_OFFAXIS
     } else if reads_normal(model.sliding_transport) || reads_normal(model.rolling_transport) {
         WITH_NORMAL
@@ -97,7 +99,7 @@ pub fn record_word(s: &ContactState<f64>, q: usize) -> f64 {
         3..=5 => v(&s.rolling_spring, q - 3),
         6 => s.twisting_angle,
         7..=9 => v(&s.previous_normal, q - 7),
-        _ => v(&s.twisting_offaxis, q - 10),
+        _ => v(&s.model_memory, q - 10),
     }
 }
 
@@ -119,7 +121,7 @@ pub fn state_from_words(layout: HistoryLayout, words: &[f64]) -> Option<ContactS
         rolling_spring: v(3),
         twisting_angle: w(6),
         previous_normal: v(7),
-        twisting_offaxis: v(10),
+        model_memory: v(10),
     })
 }
 
@@ -169,7 +171,7 @@ impl<const W: usize, const F: usize> StateSlot for Record<W, F> {
             rolling_spring: v(3),
             twisting_angle: w(6),
             previous_normal: v(7),
-            twisting_offaxis: v(10),
+            model_memory: v(10),
         }
     }
     #[inline(always)]
@@ -196,7 +198,7 @@ mod tests {
             sliding_spring: Vec3::new(1.0, 2.0, 3.0),
             rolling_spring: Vec3::new(4.0, 5.0, 6.0),
             twisting_angle: 7.0,
-            twisting_offaxis: Vec3::new(8.0, 9.0, 10.0),
+            model_memory: Vec3::new(8.0, 9.0, 10.0),
             previous_normal: Vec3::new(11.0, 12.0, 13.0),
         }
     }
@@ -224,14 +226,14 @@ mod tests {
         assert_eq!(state_from_words(layout(0, 13), &record(0, 13)), Some(s));
         let back = state_from_words(layout(0, 10), &record(0, 10)).unwrap();
         assert_eq!(back.previous_normal, s.previous_normal);
-        assert_eq!(back.twisting_offaxis, Vec3::zeros());
+        assert_eq!(back.model_memory, Vec3::zeros());
         assert_eq!(record(0, 10)[..7], record(0, 7)[..]);
         let back = state_from_words(layout(3, 7), &record(3, 7)).unwrap();
         assert_eq!(back.sliding_spring, Vec3::zeros());
         assert_eq!(back.rolling_spring, s.rolling_spring);
         assert_eq!(back.twisting_angle, 7.0);
         assert_eq!(back.previous_normal, s.previous_normal);
-        assert_eq!(back.twisting_offaxis, Vec3::zeros());
+        assert_eq!(back.model_memory, Vec3::zeros());
         // A length or layout that is not a model's is refused.
         assert!(!words_from_state(&s, layout(0, 8), &mut [0.0; 8]));
         assert!(!words_from_state(&s, layout(0, 7), &mut [0.0; 4]));

@@ -250,13 +250,14 @@ pub struct PairLoads {
 }
 
 /// Number of energy terms of a step ([`EnergyTerms`]).
-pub const ENERGY_TERMS: usize = 10;
+pub const ENERGY_TERMS: usize = 11;
 
 /// The energy terms of one contact step in the order of the C `rsl_contact_energy` (load times
 /// length): elastic energy after the step in the sliding, rolling and twisting springs; the
 /// energy dissipated this step by the sliding, rolling and twisting dashpots; by the sliding,
 /// rolling and twisting sliders; the change of elastic energy the transport of the springs
-/// made. See [`StepEnergy`](crate::laws::step::StepEnergy).
+/// made; the change their stiffness changes made. See
+/// [`StepEnergy`](crate::laws::step::StepEnergy).
 pub type EnergyTerms = [f64; ENERGY_TERMS];
 
 /// [`EnergyTerms`] of a step's energy (in its lane type).
@@ -274,6 +275,7 @@ pub fn energy_terms<T: Copy>(e: &crate::laws::step::StepEnergy<T>) -> [T; ENERGY
         r.slider,
         t.slider,
         e.transport,
+        e.stiffness,
     ]
 }
 

@@ -317,15 +317,15 @@ unsafe fn energy_in<'e>(
     }
     // SAFETY: forwarded contract: a non-NULL `energy` holds `n` writable structs.
     let structs: &'e mut [rsl_contact_energy] = unsafe { slice_out(p.energy, n, "params.energy")? };
-    // SAFETY: `rsl_contact_energy` is `repr(C)` with ten `f64` fields and nothing else
-    // (asserted below), so it has the size, alignment and layout of `[f64; 10]`, in the order
+    // SAFETY: `rsl_contact_energy` is `repr(C)` with eleven `f64` fields and nothing else
+    // (asserted below), so it has the size, alignment and layout of `[f64; 11]`, in the order
     // of `EnergyTerms`; the slice keeps the borrow of `structs`.
     Ok(Some(unsafe {
         std::slice::from_raw_parts_mut(structs.as_mut_ptr().cast::<EnergyTerms>(), n)
     }))
 }
 
-// `rsl_contact_energy` is ten doubles in the order of `EnergyTerms` (the cast in `energy_in`).
+// `rsl_contact_energy` is eleven doubles in the order of `EnergyTerms` (the cast in `energy_in`).
 const _: () = {
     assert!(size_of::<rsl_contact_energy>() == size_of::<EnergyTerms>());
     assert!(align_of::<rsl_contact_energy>() == align_of::<EnergyTerms>());
@@ -339,6 +339,7 @@ const _: () = {
     assert!(std::mem::offset_of!(rsl_contact_energy, slider_rolling) == 56);
     assert!(std::mem::offset_of!(rsl_contact_energy, slider_twisting) == 64);
     assert!(std::mem::offset_of!(rsl_contact_energy, transport) == 72);
+    assert!(std::mem::offset_of!(rsl_contact_energy, stiffness_change) == 80);
 };
 
 /// The checked arguments of a particle-major step call, but its per-contact histories.
@@ -805,10 +806,13 @@ pub unsafe extern "C" fn rsl_batch_step_walls(
 /// spring (3), the twisting angle (1), the previous normal (3; kept when a transport reads it:
 /// `RSL_TRANSPORT_EXACT` or `RSL_TRANSPORT_FIRST_ORDER`, as in the objective default; not with
 /// `RSL_TRANSPORT_PROJECT_RESCALE`, `RSL_TRANSPORT_PROJECT` or `RSL_TRANSPORT_NONE`, as in the
-/// LAMMPS_2021 and LIGGGHTS_3_8 presets), the twisting off-axis part (3; the YADE_2023 preset
-/// only, which keeps its twisting moment as a vector). So, with a sliding law: 7 words for the
-/// LAMMPS and LIGGGHTS presets, 10 for the objective one, 13 for YADE; without one, 4, 7 and
-/// 10. The size follows the model's sliding law, preset and transports: ask for it after the
+/// LAMMPS_2021 and LIGGGHTS_3_8 presets), the model memory (3; the YADE_2023 preset, which
+/// keeps its twisting moment as a vector, and a model that tracks energy or has a rescaled
+/// sliding history, which keeps the previous stiffnesses there; the previous normal is then
+/// kept too). So, with a sliding law: 7 words for the LAMMPS and LIGGGHTS presets, 10 for the
+/// objective one, 13 for YADE and for any model with a memory; without one, 4, 7 and 10. The
+/// size follows the model's sliding law and history, preset, transports and energy tracking:
+/// ask for it after the
 /// model's last change, and repack (`rsl_history_to_state`, then `rsl_history_from_state`
 /// with the new model) if one of these changes.
 /// Writes `*words` on success.
@@ -852,7 +856,7 @@ pub unsafe extern "C" fn rsl_history_from_state(
 
 /// Unpacks `model`'s history record (`rsl_model_history_size` doubles) into `state`: the
 /// record's fields are copied, the others (the sliding spring, the previous normal and the
-/// twisting off-axis part when the record does not keep them, the slip flags) are set to zero.
+/// model memory when the record does not keep them, the slip flags) are set to zero.
 ///
 /// # Safety
 /// `model` must be a live model; `history` readable for the record's doubles; `state` NULL or

@@ -210,8 +210,9 @@ fn wall_at(rng: &mut Lcg, sphere: &rsl_sphere, normal: Vec3<f64>) -> rsl_wall {
 }
 
 /// A persistent history of a contact whose normal (sphere into wall) is `n`: springs tangent
-/// to a previous normal a little off `n`, a twisting angle, a twisting off-axis part (read by
-/// the YADE preset, carried by the others), slip flags from the last step.
+/// to a previous normal a little off `n`, a twisting angle, a model memory (YADE's off-axis
+/// twisting moment; the previous stiffnesses, >= 0, of a model that keeps them), slip flags
+/// from the last step.
 fn history(rng: &mut Lcg, n: Vec3<f64>) -> rsl_contact_state {
     let old = (n + Vec3::from(rng.vec(0.02))).normalize();
     let tangent = |v: rsl_vec3| -> rsl_vec3 {
@@ -222,7 +223,14 @@ fn history(rng: &mut Lcg, n: Vec3<f64>) -> rsl_contact_state {
         sliding_spring: tangent(rng.vec(5e-4)),
         rolling_spring: tangent(rng.vec(2e-4)),
         twisting_angle: rng.uniform(-1e-2, 1e-2),
-        twisting_offaxis: tangent(rng.vec(0.05)),
+        model_memory: {
+            let m = rng.vec(0.05);
+            rsl_vec3 {
+                x: m.x.abs(),
+                y: m.y.abs(),
+                z: m.z.abs(),
+            }
+        },
         previous_normal: old.into(),
         slip_flags: rng.below(8) as u32,
         ..Default::default()
@@ -423,6 +431,7 @@ const ENERGY_SENTINEL: rsl_contact_energy = rsl_contact_energy {
     slider_rolling: 0.0,
     slider_twisting: 0.0,
     transport: 99.0,
+    stiffness_change: -7.0,
 };
 
 /// A state slot the call must not touch (past the contacts, or not indexed).
@@ -719,7 +728,7 @@ fn vec_bits(v: &[rsl_vec3]) -> Vec<[u64; 3]> {
         .collect()
 }
 
-fn energy_terms(e: &rsl_contact_energy) -> [f64; 10] {
+fn energy_terms(e: &rsl_contact_energy) -> [f64; 11] {
     [
         e.elastic_sliding,
         e.elastic_rolling,
@@ -731,10 +740,11 @@ fn energy_terms(e: &rsl_contact_energy) -> [f64; 10] {
         e.slider_rolling,
         e.slider_twisting,
         e.transport,
+        e.stiffness_change,
     ]
 }
 
-fn energy_bits(e: &rsl_contact_energy) -> [u64; 10] {
+fn energy_bits(e: &rsl_contact_energy) -> [u64; 11] {
     energy_terms(e).map(f64::to_bits)
 }
 
@@ -1174,7 +1184,7 @@ const POKED_DOUBLES: usize = 39;
 /// Double `field` of contact `c`: its wall (0-11: point, normal, velocity, angular velocity),
 /// its sphere (12-21: position, velocity, angular velocity, radius; shared with the particle's
 /// other contacts), `f_n` (22), `k_t` (23), `gamma_t` (24), `k_n` (25), its state (26-38:
-/// sliding spring, rolling spring, twisting angle, twisting off-axis part, previous normal).
+/// sliding spring, rolling spring, twisting angle, model memory, previous normal).
 fn poke(s: &mut Scene, c: usize, field: usize) -> &mut f64 {
     fn vec(v: &mut rsl_vec3, i: usize) -> &mut f64 {
         [&mut v.x, &mut v.y, &mut v.z].into_iter().nth(i).unwrap()
@@ -1212,7 +1222,7 @@ fn poke(s: &mut Scene, c: usize, field: usize) -> &mut f64 {
                 i @ 0..=2 => vec(&mut st.sliding_spring, i),
                 i @ 3..=5 => vec(&mut st.rolling_spring, i - 3),
                 6 => &mut st.twisting_angle,
-                i @ 7..=9 => vec(&mut st.twisting_offaxis, i - 7),
+                i @ 7..=9 => vec(&mut st.model_memory, i - 7),
                 i => vec(&mut st.previous_normal, i - 10),
             }
         }
@@ -1922,8 +1932,8 @@ fn single_precision_is_close_to_the_double_per_contact_results() {
                             vec![v.x, v.y, v.z]
                         }),
                         ("twisting angle", |s| vec![s.twisting_angle]),
-                        ("twisting off-axis part", |s| {
-                            let v = s.twisting_offaxis;
+                        ("model memory", |s| {
+                            let v = s.model_memory;
                             vec![v.x, v.y, v.z]
                         }),
                         ("previous normal", |s| {

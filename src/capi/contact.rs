@@ -175,6 +175,7 @@ fn to_c(o: &StepOutput<f64>) -> rsl_contact_loads {
             slider_rolling: e.rolling.slider,
             slider_twisting: e.twisting.slider,
             transport: e.transport,
+            stiffness_change: e.stiffness,
         },
         slip_flags: slip_bits(o),
         reserved: 0,
@@ -186,7 +187,7 @@ fn store(state: &mut rsl_contact_state, s: &ContactState<f64>, slip: u32) {
     state.sliding_spring = s.sliding_spring.into();
     state.rolling_spring = s.rolling_spring.into();
     state.twisting_angle = s.twisting_angle;
-    state.twisting_offaxis = s.twisting_offaxis.into();
+    state.model_memory = s.model_memory.into();
     state.previous_normal = s.previous_normal.into();
     state.slip_flags = slip;
 }
@@ -221,7 +222,7 @@ pub unsafe extern "C" fn rsl_contact_state_init(state: *mut rsl_contact_state) -
 /// `v_r = R_r (w1 - w2) x n`, where both factors change sign) and negated in the angle form
 /// (`theta_r` integrates `(w1 - w2)_t`; YADE and LIGGGHTS presets: the moment on body 1);
 /// `twisting_angle` kept (`(w1 - w2) . n` is unchanged; YADE preset: the moment on body 1 along
-/// the previous normal, which flips too); `twisting_offaxis` negated; `previous_normal`
+/// the previous normal, which flips too); `model_memory` negated; `previous_normal`
 /// negated (the normal points from body 1 to body 2); `slip_flags` kept. Negating every
 /// field, as LAMMPS 20220106 does to its history when a pair's order changes, reverses the
 /// rolling and twisting springs of the length form: wrong.
@@ -2332,7 +2333,7 @@ mod tests {
             20..=22 => vec(&mut state.sliding_spring, i - 20),
             23..=25 => vec(&mut state.rolling_spring, i - 23),
             26 => &mut state.twisting_angle,
-            27..=29 => vec(&mut state.twisting_offaxis, i - 27),
+            27..=29 => vec(&mut state.model_memory, i - 27),
             30..=32 => vec(&mut state.previous_normal, i - 30),
             _ => [
                 &mut input.normal_force,

@@ -15,7 +15,8 @@ use crate::geometry::GeometryOptions;
 use crate::laws::materials::{same_laws, Coefficients};
 use crate::laws::model::{
     DampingMode, Model, Preset, RollingDamping, RollingForm, RollingLaw, RollingParams,
-    RollingStiffness, SlidingLaw, SlidingParams, Transport, TwistingLaw, TwistingParams,
+    RollingStiffness, SlidingHistory, SlidingLaw, SlidingParams, Transport, TwistingLaw,
+    TwistingParams,
 };
 
 /// Preset: this library's objective definitions (default).
@@ -32,6 +33,23 @@ pub const RSL_PRESET_LIGGGHTS_3_8: i32 = 3;
 pub const RSL_SLIDING_NONE: i32 = 0;
 /// Sliding law: linear spring-dashpot-slider (LAMMPS linear_history).
 pub const RSL_SLIDING_LINEAR: i32 = 1;
+
+/// Sliding history (`rsl_model_set_sliding_history`): the spring stores a displacement `xi`
+/// (length), its load is `-k_t xi` with the step's `k_t`: a change of `k_t` keeps the stretch
+/// and scales the load (LAMMPS `linear_history`, `mindlin`). Every preset's default but
+/// YADE_2023's.
+pub const RSL_SLIDING_HISTORY_DISPLACEMENT: i32 = 0;
+/// Sliding history: the spring stores its elastic force (on body 1), built incrementally,
+/// `F += -k_t v_s dt` with the step's `k_t`: a change of `k_t` keeps the load (LAMMPS
+/// `mindlin/force`; YADE's shear force, the YADE_2023 preset's only history).
+pub const RSL_SLIDING_HISTORY_FORCE: i32 = 1;
+/// Sliding history: as `RSL_SLIDING_HISTORY_DISPLACEMENT`, and in a step whose `k_t` is below
+/// the previous step's, the stored displacement is first scaled by `k_t / k_t,previous`
+/// (LAMMPS `mindlin_rescale`: `a / a_previous` for its `k_t = 8 G a`).
+pub const RSL_SLIDING_HISTORY_DISPLACEMENT_RESCALED: i32 = 2;
+/// Sliding history: as `RSL_SLIDING_HISTORY_FORCE`, with the stored force scaled by
+/// `k_t / k_t,previous` in a step whose `k_t` fell (LAMMPS `mindlin_rescale/force`).
+pub const RSL_SLIDING_HISTORY_FORCE_RESCALED: i32 = 3;
 
 /// Rolling law: none.
 pub const RSL_ROLLING_NONE: i32 = 0;
@@ -345,10 +363,63 @@ pub unsafe extern "C" fn rsl_model_set_sliding(
                     stiffness,
                     damping,
                     friction,
+                    history: m.sliding.history,
                 };
                 Ok(())
             })
         }
+    })
+}
+
+/// Sets what the sliding spring stores (`RSL_SLIDING_HISTORY_*`), hence what a change of its
+/// stiffness from one step to the next does to it (a per-contact `k_t`, as Hertz-Mindlin's):
+/// the loads are the same for every history while `k_t` is constant. The rescaled histories
+/// compare each step's `k_t` with the previous step's, which the contact state keeps in
+/// `model_memory` (so the model's history record, `rsl_model_history_size`, grows). The
+/// YADE_2023 preset keeps `RSL_SLIDING_HISTORY_FORCE` (anything else is
+/// `RSL_ERR_INVALID_PARAMETER`). Kept by `rsl_model_set_sliding`.
+///
+/// # Safety
+/// As `rsl_model_set_geometry`.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_set_sliding_history(model: *mut rsl_model, history: i32) -> i32 {
+    guard(|| {
+        let history = match history {
+            RSL_SLIDING_HISTORY_DISPLACEMENT => SlidingHistory::Displacement,
+            RSL_SLIDING_HISTORY_FORCE => SlidingHistory::Force,
+            RSL_SLIDING_HISTORY_DISPLACEMENT_RESCALED => SlidingHistory::DisplacementRescaled,
+            RSL_SLIDING_HISTORY_FORCE_RESCALED => SlidingHistory::ForceRescaled,
+            other => return Err(bad("sliding history", other).into()),
+        };
+        // SAFETY: forwarded contract.
+        unsafe {
+            update(model, |m| {
+                m.sliding.history = history;
+                Ok(())
+            })
+        }
+    })
+}
+
+/// Writes the model's sliding history (`RSL_SLIDING_HISTORY_*`) to `*history`.
+///
+/// # Safety
+/// `model` must be a live model; `history` writable.
+#[no_mangle]
+pub unsafe extern "C" fn rsl_model_get_sliding_history(
+    model: *const rsl_model,
+    history: *mut i32,
+) -> i32 {
+    guard(|| {
+        // SAFETY: forwarded contract.
+        let (m, out) = unsafe { (live_model(model)?, output(history, "history")?) };
+        *out = match m.model.sliding.history {
+            SlidingHistory::Displacement => RSL_SLIDING_HISTORY_DISPLACEMENT,
+            SlidingHistory::Force => RSL_SLIDING_HISTORY_FORCE,
+            SlidingHistory::DisplacementRescaled => RSL_SLIDING_HISTORY_DISPLACEMENT_RESCALED,
+            SlidingHistory::ForceRescaled => RSL_SLIDING_HISTORY_FORCE_RESCALED,
+        };
+        Ok(())
     })
 }
 
@@ -642,6 +713,78 @@ mod tests {
                 RSL_ERR_INVALID_PARAMETER
             );
             rsl_model_free(p);
+        }
+    }
+
+    /// The sliding history: set and read back; an undefined code and any history but the force
+    /// for YADE_2023 are refused with the model unchanged; `rsl_model_set_sliding` keeps it; a
+    /// rescaled history (and energy tracking) makes the history record keep the model memory.
+    #[test]
+    fn sliding_history_round_trip_refusals_and_record_size() {
+        use crate::capi::batch::rsl_model_history_size;
+        let mut p: *mut rsl_model = std::ptr::null_mut();
+        let mut y: *mut rsl_model = std::ptr::null_mut();
+        // SAFETY: `p`, `y` are valid out pointers; the live handles are freed at the end.
+        unsafe {
+            let history = |m: *const rsl_model| {
+                let mut h = -1;
+                assert_eq!(rsl_model_get_sliding_history(m, &mut h), RSL_OK);
+                h
+            };
+            let words = |m: *const rsl_model| {
+                let mut w = 0;
+                assert_eq!(rsl_model_history_size(m, &mut w), RSL_OK);
+                w
+            };
+            assert_eq!(rsl_model_new(RSL_PRESET_LAMMPS_2021, &mut p), RSL_OK);
+            assert_eq!(
+                rsl_model_set_sliding(p, RSL_SLIDING_LINEAR, 1e5, 1.0, 0.5),
+                RSL_OK
+            );
+            assert_eq!(history(p), RSL_SLIDING_HISTORY_DISPLACEMENT);
+            assert_eq!(words(p), 7);
+            for h in [
+                RSL_SLIDING_HISTORY_FORCE,
+                RSL_SLIDING_HISTORY_DISPLACEMENT_RESCALED,
+                RSL_SLIDING_HISTORY_FORCE_RESCALED,
+            ] {
+                assert_eq!(rsl_model_set_sliding_history(p, h), RSL_OK);
+                assert_eq!(history(p), h);
+            }
+            // Rescaled: the record keeps the previous stiffnesses (and the normal before them).
+            assert_eq!(words(p), 13);
+            assert_eq!(
+                rsl_model_set_sliding(p, RSL_SLIDING_LINEAR, 2e5, 1.0, 0.5),
+                RSL_OK
+            );
+            assert_eq!(history(p), RSL_SLIDING_HISTORY_FORCE_RESCALED);
+            for bad in [-1, 4, i32::MAX] {
+                assert_eq!(
+                    rsl_model_set_sliding_history(p, bad),
+                    RSL_ERR_INVALID_PARAMETER
+                );
+                assert_eq!(history(p), RSL_SLIDING_HISTORY_FORCE_RESCALED);
+            }
+            assert_eq!(
+                rsl_model_set_sliding_history(p, RSL_SLIDING_HISTORY_FORCE),
+                RSL_OK
+            );
+            assert_eq!(words(p), 7);
+            assert_eq!(rsl_model_set_energy_tracking(p, 1), RSL_OK);
+            assert_eq!(words(p), 13);
+            assert_eq!(rsl_model_new(RSL_PRESET_YADE_2023, &mut y), RSL_OK);
+            assert_eq!(history(y), RSL_SLIDING_HISTORY_FORCE);
+            assert_eq!(
+                rsl_model_set_sliding_history(y, RSL_SLIDING_HISTORY_FORCE),
+                RSL_OK
+            );
+            assert_eq!(
+                rsl_model_set_sliding_history(y, RSL_SLIDING_HISTORY_DISPLACEMENT),
+                RSL_ERR_INVALID_PARAMETER
+            );
+            assert_eq!(history(y), RSL_SLIDING_HISTORY_FORCE);
+            rsl_model_free(p);
+            rsl_model_free(y);
         }
     }
 }

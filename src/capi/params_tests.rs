@@ -555,7 +555,7 @@ fn a_table_takes_sets_of_the_models_laws_only_and_setters_keep_it_for_values() {
     assert_eq!(count(&model), 0);
 }
 
-fn energy_bits(e: &rsl_contact_energy) -> [u64; 10] {
+fn energy_bits(e: &rsl_contact_energy) -> [u64; 11] {
     [
         e.elastic_sliding,
         e.elastic_rolling,
@@ -567,6 +567,7 @@ fn energy_bits(e: &rsl_contact_energy) -> [u64; 10] {
         e.slider_rolling,
         e.slider_twisting,
         e.transport,
+        e.stiffness_change,
     ]
     .map(f64::to_bits)
 }

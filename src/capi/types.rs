@@ -154,7 +154,8 @@ pub struct rsl_legacy_rolling {
 /// Energy terms of one step (load times length; 0 unless the model tracks energy).
 ///
 /// Per mode (sliding, rolling, twisting), the work the step's load took out of the relative
-/// motion equals the change of elastic energy plus dashpot plus slider (plus `transport`): the
+/// motion equals the change of elastic energy plus dashpot plus slider, less `transport` and
+/// `stiffness_change` (the energy the springs gained without work): the
 /// budget of a simulation closes with them, up to the integrator's error (first order in the
 /// time step). While a spring sticks its slider term is 0 and the work is the spring's midpoint
 /// work plus the dashpot's; while it slips, the work is that of the applied, clipped load. Only
@@ -186,6 +187,14 @@ pub struct rsl_contact_energy {
     /// Change of elastic energy caused by transporting the springs this step (0 to rounding
     /// for exact and project-rescale transport).
     pub transport: f64,
+    /// Elastic energy the springs gained (negative: lost) this step because their stiffness
+    /// changed since the previous step, with no work done: a per-contact `k_t` (Hertz-Mindlin's
+    /// follows the contact radius), Marshall twisting's `k_t a^2 / 2`, a rolling stiffness
+    /// derived from `k_n`, or a rescaled sliding history shrinking. The springs' energy at the
+    /// start of the step with this step's stiffnesses, less their energy at the end of the
+    /// previous step (the state keeps the previous stiffnesses in `model_memory`). 0 with the
+    /// YADE_2023 preset, whose state has no room for them.
+    pub stiffness_change: f64,
 }
 
 /// Loads of one contact step. Body 2 receives `-force1` and `torque2`.

@@ -3,12 +3,12 @@
 /// Major version of the header (must equal the library's, see `rsl_version`).
 pub const RSL_VERSION_MAJOR: u32 = 0;
 /// Minor version of the header.
-pub const RSL_VERSION_MINOR: u32 = 3;
+pub const RSL_VERSION_MINOR: u32 = 4;
 /// Patch version of the header.
-pub const RSL_VERSION_PATCH: u32 = 2;
+pub const RSL_VERSION_PATCH: u32 = 0;
 /// The header's version as one number for preprocessor tests, `MAJOR * 10000 + MINOR * 100 +
 /// PATCH` (0.3.0 is 300): `#if RSL_VERSION_NUMBER >= 300`.
-pub const RSL_VERSION_NUMBER: u32 = 302;
+pub const RSL_VERSION_NUMBER: u32 = 400;
 
 /// The library's version as a static NUL-terminated string "MAJOR.MINOR.PATCH" (the version of
 /// the compiled library, which a program can compare with the header's `RSL_VERSION_*`).

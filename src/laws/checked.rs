@@ -150,9 +150,21 @@ fn check_state<T: RealField + Copy>(s: &ContactState<T>) -> Result<(), Error> {
     check_finite_vec(&s.sliding_spring, "state: sliding spring")?;
     check_finite_vec(&s.rolling_spring, "state: rolling spring")?;
     check_finite_vec(&s.previous_normal, "state: previous normal")?;
-    check_finite_vec(&s.twisting_offaxis, "state: twisting off-axis part")?;
+    check_finite_vec(&s.model_memory, "state: model memory")?;
     if !s.twisting_angle.is_finite() {
         return Err(Error::NonFinite("state: twisting angle"));
+    }
+    Ok(())
+}
+
+/// The input state of a model that keeps the previous stiffnesses
+/// ([`Model::stiffness_memory`]): each finite (tested with the state) and >= 0.
+fn check_memory<T: RealField + Copy>(model: &Model, s: &ContactState<T>) -> Result<(), Error> {
+    let m = &s.model_memory;
+    if model.stiffness_memory() && (m.x < T::zero() || m.y < T::zero() || m.z < T::zero()) {
+        return Err(Error::InvalidArgument(
+            "state: model memory (the previous step's stiffnesses) must be >= 0".into(),
+        ));
     }
     Ok(())
 }
@@ -194,6 +206,7 @@ pub fn contact_step_pair<T: RealField + Copy>(
     let g = decompose_pair(body1, body2, model.geometry, Parts(0))?.geometry;
     check_input(model, input, false)?;
     check_state(state)?;
+    check_memory(model, state)?;
     let mut next = *state;
     let out = contact_step_with_geometry(model, g, body1, Partner::Sphere(body2), input, &mut next);
     check_output(&out, &next)?;
@@ -212,6 +225,7 @@ pub fn contact_step_wall<T: RealField + Copy>(
     let d = decompose_wall(sphere, wall, model.geometry, Parts(0))?;
     check_input(model, input, true)?;
     check_state(state)?;
+    check_memory(model, state)?;
     let unit = Wall {
         normal: -d.geometry.normal,
         ..*wall

@@ -74,7 +74,7 @@ fn state_values(s: &ContactState<f64>) -> [f64; 13] {
     let (a, b, c, d) = (
         &s.sliding_spring,
         &s.rolling_spring,
-        &s.twisting_offaxis,
+        &s.model_memory,
         &s.previous_normal,
     );
     [
@@ -224,8 +224,8 @@ pub fn step_outputs_finite(
     if written.twisting_angle {
         sums.add([state.twisting_angle]);
     }
-    if written.twisting_offaxis {
-        sums.add_vec(&state.twisting_offaxis);
+    if written.model_memory {
+        sums.add_vec(&state.model_memory);
     }
     if model.track_energy {
         sums.add(out.energy.terms());
@@ -285,6 +285,14 @@ fn step_with(
     (out, next)
 }
 
+/// Whether the state's previous stiffnesses are >= 0 where the model keeps them
+/// ([`Model::stiffness_memory`]; NaN fails, and the finite test covers the rest).
+#[inline(always)]
+fn memory_ok(model: &Model, state: &ContactState<f64>) -> bool {
+    let m = &state.model_memory;
+    !model.stiffness_memory() || ((m.x >= 0.0) & (m.y >= 0.0) & (m.z >= 0.0))
+}
+
 /// The fast path before its output test: the step's output and the new state when the inputs
 /// pass the quick test, `None` otherwise. `inputs_finite` is the caller's [`inputs_finite`] (or
 /// the same test done on its own layout of the values). The caller must then test the results
@@ -304,7 +312,8 @@ pub fn step_pair_if_valid(
 ) -> Option<(StepOutput<f64>, ContactState<f64>)> {
     debug_assert!(unbonded_step(input) && overrides_in_range(input));
     let g = geometry_of_pair(model, body1, body2);
-    if !(inputs_finite & inputs_in_range(model, body1, body2, &g, input)) {
+    if !(inputs_finite & inputs_in_range(model, body1, body2, &g, input) & memory_ok(model, state))
+    {
         return None;
     }
     Some(step_with(
@@ -341,7 +350,8 @@ pub fn step_wall_if_valid(
         & (sphere.radius > 0.0)
         & g.overlap.is_finite()
         & (g.branch1 > 0.0)
-        & input_in_range(model, input, true);
+        & input_in_range(model, input, true)
+        & memory_ok(model, state);
     if !ok {
         return None;
     }

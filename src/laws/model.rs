@@ -3,6 +3,7 @@
 
 use crate::error::Error;
 use crate::geometry::{BranchRule, GeometryOptions, RollingRadiusRule};
+use crate::laws::spring::Storage;
 
 /// Sliding (tangential force) law.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -12,6 +13,47 @@ pub enum SlidingLaw {
     None,
     /// Spring-dashpot-slider on the sliding spring `xi_s` (LAMMPS linear_history).
     Linear,
+}
+
+/// What the sliding spring stores, hence what happens to it when its stiffness changes from one
+/// step to the next (per-contact `k_t`, e.g. Hertz-Mindlin's `8 G a`). Every history gives the
+/// same loads while `k_t` is constant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SlidingHistory {
+    /// A displacement `xi` (length); load `-k_t xi` with the step's `k_t`, so the spring keeps
+    /// its stretch and its load follows `k_t` (LAMMPS `linear_history`, `mindlin`).
+    #[default]
+    Displacement,
+    /// The elastic force itself, built incrementally: `F += -k_t v dt` with the step's `k_t`,
+    /// so the spring keeps its load (LAMMPS `mindlin/force`; YADE's shear force).
+    Force,
+    /// As `Displacement`, and when `k_t` falls below the previous step's, the stored
+    /// displacement is first scaled by `k_t / k_t,previous` (LAMMPS `mindlin_rescale`, whose
+    /// `a / a_previous` is that ratio for `k_t = 8 G a`).
+    DisplacementRescaled,
+    /// As `Force`, with the stored force scaled as `DisplacementRescaled` scales the
+    /// displacement (LAMMPS `mindlin_rescale/force`).
+    ForceRescaled,
+}
+
+impl SlidingHistory {
+    /// What the spring stores.
+    pub fn storage(self) -> Storage {
+        match self {
+            SlidingHistory::Displacement | SlidingHistory::DisplacementRescaled => {
+                Storage::Displacement
+            }
+            SlidingHistory::Force | SlidingHistory::ForceRescaled => Storage::Load,
+        }
+    }
+
+    /// Whether the stored spring shrinks with a falling stiffness.
+    pub fn rescaled(self) -> bool {
+        matches!(
+            self,
+            SlidingHistory::DisplacementRescaled | SlidingHistory::ForceRescaled
+        )
+    }
 }
 
 /// Rolling resistance law (models.md section 3).
@@ -128,6 +170,9 @@ pub struct SlidingParams {
     pub damping: f64,
     /// Friction coefficient `mu_s` (dimensionless), >= 0; +inf for no limit.
     pub friction: f64,
+    /// What the spring stores (YADE_2023: its force; every other preset: a displacement by
+    /// default).
+    pub history: SlidingHistory,
 }
 
 /// Parameters of the rolling law. Units follow [`RollingForm`].
@@ -305,6 +350,15 @@ impl Model {
         (r.law == RollingLaw::Epsd && r.stiffness_from_friction()) || self.liggghts_cdt()
     }
 
+    /// Whether the steps keep the springs' stiffnesses of the previous step in the state
+    /// (`ContactState::model_memory`): for the stiffness-change energy (`track_energy`) and
+    /// the rescaled sliding histories. Never with YADE_2023, whose state holds its off-axis
+    /// twisting moment there.
+    #[inline(always)]
+    pub fn stiffness_memory(&self) -> bool {
+        self.preset != Preset::Yade2023 && (self.track_energy || self.sliding.history.rescaled())
+    }
+
     /// Whether the rolling law is LIGGGHTS' cdt, whose moment uses the elastic normal force
     /// `k_n delta` (not the limits' force).
     pub fn liggghts_cdt(&self) -> bool {
@@ -336,6 +390,7 @@ impl Model {
                 m.sliding_transport = Transport::FirstOrder;
                 m.rolling_transport = Transport::FirstOrder;
                 m.rolling.form = RollingForm::Angle;
+                m.sliding.history = SlidingHistory::Force;
             }
             Preset::Liggghts38 => {
                 m.geometry = GeometryOptions {
@@ -356,6 +411,13 @@ impl Model {
         self.sliding.validate()?;
         self.rolling.validate()?;
         self.twisting.validate()?;
+        if self.preset == Preset::Yade2023 && self.sliding.history != SlidingHistory::Force {
+            return Err(Error::InvalidParameter(
+                "the YADE_2023 preset's sliding spring stores its shear force, as YADE does: \
+                 its history cannot be changed"
+                    .into(),
+            ));
+        }
         if self.contact_point_sliding && self.preset != Preset::Yade2023 {
             return Err(Error::InvalidParameter(AVOID_RATCHETING_NEEDS_YADE.into()));
         }

@@ -1,5 +1,5 @@
 //! What each compatibility preset changes in the step (peers.md): the sliding rate, the clip
-//! rules, what the springs store, the setup pass, and a few law details. Everything here is
+//! rules, what the rolling spring stores (the sliding spring's is the model's `SlidingHistory`), the setup pass, and a few law details. Everything here is
 //! decided once per call from the model, never per contact lane.
 
 use crate::laws::model::Preset;
@@ -51,8 +51,6 @@ pub struct Conventions {
     pub rolling_clip: ClipRule,
     /// Clip of the twisting spring.
     pub twisting_clip: ClipRule,
-    /// What the sliding spring stores.
-    pub sliding_storage: Storage,
     /// What the rolling spring stores.
     pub rolling_storage: Storage,
     /// YADE keeps the twisting moment as a vector, transported like the shear force.
@@ -77,7 +75,6 @@ const OBJECTIVE: Conventions = Conventions {
     sliding_clip: ClipRule::Total,
     rolling_clip: ClipRule::Total,
     twisting_clip: ClipRule::Total,
-    sliding_storage: Storage::Displacement,
     rolling_storage: Storage::Displacement,
     twist_vector: false,
     cdt_liggghts: false,
@@ -112,7 +109,6 @@ static CONVENTIONS: [Conventions; 4] = [
     },
     Conventions {
         sliding_rate: SlidingRate::YadeScaled,
-        sliding_storage: Storage::Load,
         rolling_storage: Storage::Load,
         twist_vector: true,
         yade_cohesion: true,

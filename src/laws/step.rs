@@ -134,9 +134,13 @@ pub struct ContactState<T: Real> {
     /// Twisting angle `theta_tw` (rad); YADE preset: the twisting moment on body 1 along the
     /// previous normal.
     pub twisting_angle: T,
-    /// YADE preset only: the part of its vector twisting moment off the previous normal (zero
-    /// for every other model).
-    pub twisting_offaxis: Vec3<T>,
+    /// What the model remembers besides the springs. YADE preset: the part of its vector
+    /// twisting moment off the previous normal. Every other preset, when the model tracks
+    /// energy or rescales its sliding history ([`Model::stiffness_memory`]): the stiffnesses
+    /// the sliding (`x`), rolling (`y`) and twisting (`z`) springs had in the previous step
+    /// (zero for a law that is off), which the stiffness-change energy and the rescaled
+    /// histories compare the step's with; zero otherwise (carried unchanged).
+    pub model_memory: Vec3<T>,
     /// Normal at the previous step; zero before the first step.
     pub previous_normal: Vec3<T>,
 }
@@ -147,7 +151,7 @@ impl<T: Real> Default for ContactState<T> {
             sliding_spring: Vec3::zeros(),
             rolling_spring: Vec3::zeros(),
             twisting_angle: T::zero(),
-            twisting_offaxis: Vec3::zeros(),
+            model_memory: Vec3::zeros(),
             previous_normal: Vec3::zeros(),
         }
     }
@@ -164,9 +168,10 @@ pub struct WrittenFields {
     pub rolling_spring: bool,
     /// The twisting angle: a twisting law is on.
     pub twisting_angle: bool,
-    /// The off-axis twisting part: a twisting law is on and the preset transports the
-    /// twisting moment as a vector (YADE).
-    pub twisting_offaxis: bool,
+    /// The model memory: a twisting law is on and the preset transports the twisting moment as
+    /// a vector (YADE), or the model keeps the previous stiffnesses
+    /// ([`Model::stiffness_memory`]).
+    pub model_memory: bool,
     /// The previous normal: always (every step stores its normal).
     pub previous_normal: bool,
 }
@@ -180,7 +185,8 @@ pub fn written_fields(model: &Model) -> WrittenFields {
         sliding_spring: model.sliding.law == SlidingLaw::Linear,
         rolling_spring: model.rolling.law == RollingLaw::Epsd,
         twisting_angle: twisting_on,
-        twisting_offaxis: twisting_on && model.preset.conventions().twist_vector,
+        model_memory: (twisting_on && model.preset.conventions().twist_vector)
+            || model.stiffness_memory(),
         previous_normal: true,
     }
 }
@@ -197,12 +203,18 @@ pub struct StepEnergy<T> {
     /// Change of elastic energy caused by the transport of the histories this step (zero to
     /// rounding for `exact` and `project_rescale`).
     pub transport: T,
+    /// Elastic energy the springs gained (negative: lost) because their stiffness changed
+    /// since the previous step (per-contact `k_t`, Marshall's `k_t a^2 / 2`, a rolling
+    /// stiffness derived from `k_n`) or a rescaled history shrank them, with no work done:
+    /// the springs' energy at the start of this step with this step's stiffnesses less their
+    /// energy at the end of the previous one. Zero without [`Model::stiffness_memory`].
+    pub stiffness: T,
 }
 
 impl<T: Copy> StepEnergy<T> {
     /// Every term, in the order sliding (elastic, dashpot, slider), rolling (same), twisting
-    /// (same), transport.
-    pub fn terms(&self) -> [T; 10] {
+    /// (same), transport, stiffness change.
+    pub fn terms(&self) -> [T; 11] {
         let (s, r, t) = (&self.sliding, &self.rolling, &self.twisting);
         [
             s.elastic,
@@ -215,6 +227,7 @@ impl<T: Copy> StepEnergy<T> {
             t.dashpot,
             t.slider,
             self.transport,
+            self.stiffness,
         ]
     }
 }
@@ -257,6 +270,20 @@ fn transport_energy<T: Real>(storage: Storage, k: T, before: &Vec3<T>, after: &V
         Storage::Load => {
             let positive = k.simd_gt(T::zero());
             select(positive, diff / select(positive, k, T::one()), T::zero())
+        }
+    }
+}
+
+/// The elastic energy of a stored spring with stiffness `k`: `(1/2) k |xi|^2` for a
+/// displacement, `|F|^2 / (2 k)` for a stored load (zero where `k = 0`).
+#[inline(always)]
+fn stored_energy<T: Real>(storage: Storage, k: T, spring: &Vec3<T>) -> T {
+    let half = norm_squared(spring) * lit(0.5);
+    match storage {
+        Storage::Displacement => k * half,
+        Storage::Load => {
+            let positive = k.simd_gt(T::zero());
+            select(positive, half / select(positive, k, T::one()), T::zero())
         }
     }
 }
@@ -522,7 +549,12 @@ pub fn contact_step_with_geometry<T: Real>(
         }
     };
     let mut transport_change = zero;
+    let mut stiffness_change = zero;
     let mut new_state = *state;
+    // The previous step's stiffnesses (`Model::stiffness_memory`), and this step's.
+    let memory_on = model.stiffness_memory();
+    let previous_k = state.model_memory;
+    let mut step_k = Vec3::<T>::zeros();
 
     // 2-5. Sliding.
     let k_t = input
@@ -596,20 +628,40 @@ pub fn contact_step_with_geometry<T: Real>(
             None => plain_limit,
             Some(c) => adhesive_limit(c, mu, adhesion_force),
         };
-        let spring = if increment_sliding {
-            transport(
-                model.sliding_transport,
-                &state.sliding_spring,
-                &frame,
-                rescale_when(k_t, limit),
-            )
+        let storage = model.sliding.history.storage();
+        // A rescaled history shrinks with a falling k_t (LAMMPS scales by a / a_previous,
+        // before its transport, in every pass).
+        let stored = if model.sliding.history.rescaled() {
+            let falls = k_t.simd_lt(previous_k.x);
+            let factor = select(falls, k_t / select(falls, previous_k.x, T::one()), T::one());
+            state.sliding_spring * factor
         } else {
             state.sliding_spring
         };
+        // LAMMPS transports a stored force when |F . n| > 1e-10 mu f_n (its k_t only converts
+        // a stored displacement).
+        let threshold_k = match storage {
+            Storage::Displacement => k_t,
+            Storage::Load => T::one(),
+        };
+        let spring = if increment_sliding {
+            transport(
+                model.sliding_transport,
+                &stored,
+                &frame,
+                rescale_when(threshold_k, limit),
+            )
+        } else {
+            stored
+        };
         if energy_on {
-            transport_change +=
-                transport_energy(conv.sliding_storage, k_t, &state.sliding_spring, &spring);
+            transport_change += transport_energy(storage, k_t, &stored, &spring);
+            if memory_on {
+                stiffness_change += stored_energy(storage, k_t, &stored)
+                    - stored_energy(storage, previous_k.x, &state.sliding_spring);
+            }
         }
+        step_k.x = k_t;
         let c = SpringCoefficients {
             stiffness: k_t,
             damping: gamma_t,
@@ -621,7 +673,7 @@ pub fn contact_step_with_geometry<T: Real>(
             dt,
             &c,
             conv.sliding_clip,
-            conv.sliding_storage,
+            storage,
             increment_sliding,
             energy_on,
         );
@@ -640,7 +692,7 @@ pub fn contact_step_with_geometry<T: Real>(
                 dt,
                 &c,
                 conv.sliding_clip,
-                conv.sliding_storage,
+                storage,
                 increment_sliding,
                 energy_on,
             );
@@ -746,7 +798,17 @@ pub fn contact_step_with_geometry<T: Real>(
                         &state.rolling_spring,
                         &spring,
                     );
+                    if memory_on {
+                        stiffness_change +=
+                            stored_energy(conv.rolling_storage, c.stiffness, &state.rolling_spring)
+                                - stored_energy(
+                                    conv.rolling_storage,
+                                    previous_k.y,
+                                    &state.rolling_spring,
+                                );
+                    }
                 }
+                step_k.y = c.stiffness;
                 let rule = match p.damping_mode {
                     DampingMode::Always => conv.rolling_clip,
                     DampingMode::BelowLimit => ClipRule::SpringOnly,
@@ -802,7 +864,7 @@ pub fn contact_step_with_geometry<T: Real>(
         };
         if conv.twist_vector {
             // YADE: a vector twisting moment, transported like the shear force.
-            let stored = old_normal * state.twisting_angle + state.twisting_offaxis;
+            let stored = old_normal * state.twisting_angle + state.model_memory;
             let moved = if increment_sliding {
                 transport(
                     model.sliding_transport,
@@ -832,8 +894,13 @@ pub fn contact_step_with_geometry<T: Real>(
             slipped_t = r.slipped;
             let along = dot(&r.spring, &n);
             new_state.twisting_angle = along;
-            new_state.twisting_offaxis = r.spring - n * along;
+            new_state.model_memory = r.spring - n * along;
         } else {
+            if energy_on && memory_on {
+                let angle = state.twisting_angle;
+                stiffness_change += (c.stiffness - previous_k.z) * lit(0.5) * angle * angle;
+            }
+            step_k.z = c.stiffness;
             let r = scalar_spring(
                 state.twisting_angle,
                 d.twisting_rate,
@@ -855,6 +922,9 @@ pub fn contact_step_with_geometry<T: Real>(
     let loads = contact_loads_from_couple(&g, f_n, &sliding_force, &couple, is_wall);
     if store {
         new_state.previous_normal = n;
+        if memory_on {
+            new_state.model_memory = step_k;
+        }
         *state = new_state;
     }
     StepOutput {
@@ -867,6 +937,7 @@ pub fn contact_step_with_geometry<T: Real>(
             rolling: rolling_energy,
             twisting: twisting_energy,
             transport: transport_change,
+            stiffness: stiffness_change,
         },
         slipped: [slipped_s, slipped_r, slipped_t],
         bond_broken,

@@ -17,7 +17,7 @@
 //! | `rolling_spring`, length form | kept | `v_r = R_r (w1 - w2) x n` is unchanged: both factors change sign |
 //! | `rolling_spring`, angle form | negated | `theta_r` integrates `(w1 - w2)_t` (YADE, LIGGGHTS presets: the moment on body 1) |
 //! | `twisting_angle` | kept | `w_tw = (w1 - w2) . n` is unchanged (YADE preset: the moment on body 1 along the previous normal, which also flips) |
-//! | `twisting_offaxis` | negated | part of the moment on body 1 (YADE preset) |
+//! | `model_memory` | negated | part of the moment on body 1 (YADE preset) |
 //! | `previous_normal` | negated | the normal points from body 1 to body 2 |
 //!
 //! The transport of the springs uses the same rotation for both orders (the minimal rotation
@@ -40,7 +40,7 @@ pub fn mirror_state<T: Real>(model: &Model, state: &ContactState<T>) -> ContactS
         sliding_spring: -state.sliding_spring,
         rolling_spring,
         twisting_angle: state.twisting_angle,
-        twisting_offaxis: -state.twisting_offaxis,
+        model_memory: -state.model_memory,
         previous_normal: -state.previous_normal,
     }
 }

@@ -2,7 +2,8 @@
 #![allow(dead_code)]
 
 use rollslide::laws::model::{
-    Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingLaw, Transport, TwistingLaw,
+    Model, Preset, RollingForm, RollingLaw, RollingStiffness, SlidingHistory, SlidingLaw,
+    Transport, TwistingLaw,
 };
 use rollslide::scalar::Vec3;
 
@@ -82,8 +83,25 @@ pub fn law_set_models() -> Vec<(Model, String)> {
     slide_epsd2_liggghts.rolling.stiffness_rule = RollingStiffness::Epsd2;
     slide_epsd2_liggghts.rolling.damping = 0.2;
     slide_epsd2_liggghts.rolling.friction = 0.05;
+    // The sliding histories besides the displacement: a stored force (LAMMPS mindlin/force), and
+    // the rescaled ones (mindlin_rescale, mindlin_rescale/force), which keep the previous
+    // stiffnesses in the state's model memory; one with energy tracking (the memory and the
+    // stiffness-change term), one of LAMMPS' with Marshall twisting (its k_t a^2 / 2).
+    let mut force_exact = full;
+    force_exact.sliding.history = SlidingHistory::Force;
+    let mut rescaled_energy = full;
+    rescaled_energy.sliding.history = SlidingHistory::DisplacementRescaled;
+    rescaled_energy.track_energy = true;
+    let mut force_rescaled_lammps = lammps_marshall;
+    force_rescaled_lammps.sliding.history = SlidingHistory::ForceRescaled;
     [
         (full, "full/exact"),
+        (force_exact, "full/exact, force history"),
+        (rescaled_energy, "full/exact, rescaled history, energy"),
+        (
+            force_rescaled_lammps,
+            "full/lammps+marshall, rescaled force history",
+        ),
         (lammps, "full/lammps"),
         (sliding, "sliding/exact"),
         (slide_roll, "slide+roll/exact"),

@@ -892,7 +892,7 @@ mod tests {
                 sliding_spring: vec3(1000 + 100 * k),
                 rolling_spring: vec3(1003 + 100 * k),
                 twisting_angle: value(1006 + 100 * k),
-                twisting_offaxis: vec3(1007 + 100 * k),
+                model_memory: vec3(1007 + 100 * k),
                 previous_normal: vec3(1010 + 100 * k),
                 slip_flags: 7,
                 reserved: 0xdead_beef,

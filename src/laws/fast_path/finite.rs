@@ -53,7 +53,7 @@ fn add_state(sums: &mut FiniteSums, s: &rsl_contact_state) {
         add_vec(sums, v);
     }
     sums.add([s.twisting_angle]);
-    for v in [&s.twisting_offaxis, &s.previous_normal] {
+    for v in [&s.model_memory, &s.previous_normal] {
         add_vec(sums, v);
     }
 }
