@@ -68,6 +68,9 @@ struct Budget {
     stiffness: f64,
     /// Steps that slipped in sliding.
     slipping_steps: usize,
+    /// Each mode's dissipation (dashpot + slider, and what its spring held when the contact
+    /// ended) over the impact: sliding, rolling, twisting.
+    modes: [f64; 3],
 }
 
 /// One oblique impact with spin, sphere on sphere (`wall` false) or on the wall `z = 0`.
@@ -99,6 +102,8 @@ fn impact(model: &Model, dt: f64, wall: bool) -> Budget {
     let (mut elastic, mut dissipated, mut transport, mut stiffness) = (0.0, 0.0, 0.0, 0.0);
     let mut normal_elastic = 0.0;
     let mut slipping_steps = 0;
+    let mut modes = [0.0; 3];
+    let mut mode_elastic = [0.0; 3];
     let mut loads = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
     let mut touched = false;
     for _ in 0..200_000 {
@@ -121,6 +126,9 @@ fn impact(model: &Model, dt: f64, wall: bool) -> Budget {
                 // the stiffnesses that vanish with the contact radius; counted as lost).
                 dissipated += elastic;
                 elastic = 0.0;
+                for (total, held) in modes.iter_mut().zip(&mut mode_elastic) {
+                    *total += std::mem::take(held);
+                }
                 normal_elastic = 0.0;
                 state = ContactState::default();
                 loads = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
@@ -148,7 +156,8 @@ fn impact(model: &Model, dt: f64, wall: bool) -> Budget {
             }
             .expect("a valid step");
             let e = &out.energy;
-            elastic = e.sliding.elastic + e.rolling.elastic + e.twisting.elastic;
+            mode_elastic = [e.sliding.elastic, e.rolling.elastic, e.twisting.elastic];
+            elastic = mode_elastic.iter().sum();
             dissipated += e.sliding.dashpot
                 + e.sliding.slider
                 + e.rolling.dashpot
@@ -157,6 +166,9 @@ fn impact(model: &Model, dt: f64, wall: bool) -> Budget {
                 + e.twisting.slider;
             transport += e.transport;
             stiffness += e.stiffness;
+            modes[0] += e.sliding.dashpot + e.sliding.slider;
+            modes[1] += e.rolling.dashpot + e.rolling.slider;
+            modes[2] += e.twisting.dashpot + e.twisting.slider;
             if out.slipped[0] {
                 slipping_steps += 1;
             }
@@ -185,6 +197,7 @@ fn impact(model: &Model, dt: f64, wall: bool) -> Budget {
         dissipated,
         stiffness,
         slipping_steps,
+        modes,
     }
 }
 
@@ -229,7 +242,9 @@ const HISTORIES: [SlidingHistory; 4] = [
 /// below 1e-2 at the middle dt (measured at
 /// most 9.7e-4). With Marshall twisting, whose stiffness goes as `a^3`, the stiffness-change term
 /// is more than 10 times the residual at the smallest dt (the budget without it would not
-/// close: the springs' energy changes with their stiffness, not with dt).
+/// close: the springs' energy changes with their stiffness, not with dt). Each mode's
+/// dissipation over the impact (dashpot + slider, and the energy its spring held when the
+/// contact ended) is never negative.
 ///
 /// The springs whose stiffness follows the contact radius are undamped here: with a dashpot,
 /// the clip rule that keeps the dashpot inside the limit (`xi = -(F_limit + gamma v) / k`) makes
@@ -273,6 +288,12 @@ fn the_budget_closes_with_the_stiffness_change_for_every_history() {
                         );
                     }
                     assert!(rel[1].abs() < 1e-2, "{what}: residual {:.3e}", rel[1]);
+                    for (mode, total) in runs[1].modes.iter().enumerate() {
+                        assert!(
+                            *total >= -1e-9 * runs[1].dissipated,
+                            "{what}: mode {mode} dissipated {total:.3e}"
+                        );
+                    }
                     assert!(
                         twisting != TwistingLaw::Marshall
                             || (last.stiffness / last.dissipated).abs() > 10.0 * rel[2].abs(),
