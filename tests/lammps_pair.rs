@@ -33,6 +33,14 @@ fn main() {
             stock_granular_and_granular_rollslide_lammps_agree,
         ),
         trial(
+            "every_tangential_model_agrees_with_stock_granular",
+            every_tangential_model_agrees_with_stock_granular,
+        ),
+        trial(
+            "tangential_models_across_ranks_and_restart",
+            tangential_models_across_ranks_and_restart,
+        ),
+        trial(
             "several_atom_types_stock_granular_and_granular_rollslide_lammps_agree",
             several_atom_types_stock_granular_and_granular_rollslide_lammps_agree,
         ),
@@ -134,6 +142,206 @@ fn stock_granular_and_granular_rollslide_lammps_agree(exe: &Path) {
             curves[0].last().unwrap()[col]
         );
         assert!(worst < 1e-6, "{name} differs by {worst:.2e}");
+    }
+}
+
+/// (a) for every tangential model of LAMMPS 20220106's pair granular: `linear_nohistory`
+/// (a dashpot clipped at the friction limit), `linear_history`, `mindlin`, `mindlin_rescale`,
+/// `mindlin/force` and `mindlin_rescale/force`, each with hertz/material, viscoelastic damping,
+/// rolling sds and twisting marshall (in.packing's laws N, L, B, R, F, Q), and the four new ones
+/// with hooke, velocity damping, rolling sds and twisting sds (laws P, T, J, K). Stock `pair
+/// granular` and `granular/rollslide lammps` give the same per-atom forces and torques at each
+/// of the first 20 steps to 1e-10 relative (the tolerance of (a), for its reasons), one rank,
+/// newton off, no sorting. The packing relaxes from its compressed start, so about half of the
+/// contacts unload at every step: the `_rescale` models scale their springs down. Control: in
+/// stock's runs, law R differs from law B (mindlin) and law Q from law F (mindlin/force) by
+/// more than 1e-4 of the median load at step 20, so the rescale acts in these runs (measured,
+/// printed). Then the macroscopic curves of laws R and Q over 3000 steps, as in (a): the
+/// packing relaxes to rest, its contacts opening, closing and unloading throughout.
+fn every_tangential_model_agrees_with_stock_granular(exe: &Path) {
+    let dir = rundir("tangential");
+    let laws = [
+        ("N", "linear_nohistory, hertz/material, marshall"),
+        ("L", "linear_history, hertz/material, marshall"),
+        ("B", "mindlin, hertz/material, marshall"),
+        ("R", "mindlin_rescale, hertz/material, marshall"),
+        ("F", "mindlin/force, hertz/material, marshall"),
+        ("Q", "mindlin_rescale/force, hertz/material, marshall"),
+        ("P", "linear_nohistory, hooke, twisting sds"),
+        ("T", "mindlin/force, hooke, twisting sds"),
+        ("J", "mindlin_rescale, hooke, twisting sds"),
+        ("K", "mindlin_rescale/force, hooke, twisting sds"),
+    ];
+    let mut stock_dumps = std::collections::BTreeMap::new();
+    let mut table = Vec::new();
+    for (law, what) in laws {
+        let mut dumps = Vec::new();
+        for (pair, preset) in [("granular", ""), ("granular/rollslide", "lammps")] {
+            let dump = format!("{}_{law}.dump", pair.replace('/', "_"));
+            lammps(
+                exe,
+                &dir,
+                1,
+                "in.packing",
+                &[
+                    ("pair", pair),
+                    ("preset", preset),
+                    ("law", law),
+                    ("steps", "20"),
+                    ("dumpevery", "1"),
+                    ("dump", &dump),
+                ],
+            );
+            dumps.push(read_dump(&dir.join(dump)));
+        }
+        let (wf, wt) = worst_relative(&dumps[0], &dumps[1]);
+        table.push(format!(
+            "law {law} ({what}): steps 0-20, worst per-atom relative difference force {wf:.2e}, torque {wt:.2e}"
+        ));
+        println!("{}", table.last().unwrap());
+        assert!(
+            wf < 1e-10 && wt < 1e-10,
+            "law {law} ({what}): granular/rollslide lammps differs from pair granular (force {wf:.2e}, torque {wt:.2e})"
+        );
+        stock_dumps.insert(law, dumps.swap_remove(0));
+    }
+    for (rescaled, plain) in [("R", "B"), ("Q", "F")] {
+        let (f, t) = compare(&stock_dumps[rescaled][&20], &stock_dumps[plain][&20]);
+        println!(
+            "control, stock law {rescaled} (rescaled) vs law {plain} at step 20: force {:.2e}, torque {:.2e} of the median load",
+            f.over_median, t.over_median
+        );
+        assert!(
+            f.over_median.max(t.over_median) > 1e-4,
+            "law {rescaled}: the rescale changed nothing"
+        );
+    }
+
+    // The longer runs: the curves.
+    for law in ["R", "Q"] {
+        let mut curves = Vec::new();
+        for (pair, preset) in [("granular", ""), ("granular/rollslide", "lammps")] {
+            let log = lammps(
+                exe,
+                &dir,
+                1,
+                "in.packing",
+                &[
+                    ("pair", pair),
+                    ("preset", preset),
+                    ("law", law),
+                    ("steps", "3000"),
+                ],
+            );
+            curves.push(thermo(&log));
+        }
+        assert_eq!(curves[0].len(), 31, "thermo rows of the 3000-step run");
+        assert_eq!(curves[0].len(), curves[1].len());
+        let names = [
+            "kinetic energy",
+            "rotational energy",
+            "coordination",
+            "mean |torque|",
+            "pressure",
+        ];
+        for (c, name) in names.iter().enumerate() {
+            let col = c + 1;
+            let scale = curves[0].iter().map(|r| r[col].abs()).fold(0.0, f64::max);
+            let worst = curves[0]
+                .iter()
+                .zip(&curves[1])
+                .map(|(a, b)| (a[col] - b[col]).abs() / scale)
+                .fold(0.0, f64::max);
+            println!(
+                "law {law}, {name}: from {:.6} to {:.6}, worst difference {worst:.2e} of its largest value",
+                curves[0][0][col],
+                curves[0].last().unwrap()[col]
+            );
+            assert!(worst < 1e-6, "law {law}: {name} differs by {worst:.2e}");
+        }
+    }
+}
+
+/// (b) and (c) for the tangential models added after them (laws N, R, F, Q: linear_nohistory,
+/// mindlin_rescale, mindlin/force, mindlin_rescale/force; hertz/material, viscoelastic damping,
+/// rolling sds, twisting marshall): the packing moving through 2 subdomains as in (b), `-np 2`
+/// newton on with sorting every 10 steps against one rank, loads at step 600 to 1e-8 of the
+/// median load (the tolerance of (b), for its reasons), `lammps` preset, and the objective
+/// preset for law Q; and a restart at step 300 (2 ranks, newton on, sorting) continued to 600
+/// in a new process, equal to 1e-12 of the median load to the same two runs made in one process
+/// (`lammps` preset, damped laws: as (c)). The `_rescale` models keep the previous step's
+/// sliding stiffness in the contact state (the library's), which goes with the history through
+/// migration, the mirroring of the state at a swap and restart files.
+fn tangential_models_across_ranks_and_restart(exe: &Path) {
+    let dir = rundir("tangential_mpi");
+    for (law, preset) in [
+        ("N", "lammps"),
+        ("R", "lammps"),
+        ("F", "lammps"),
+        ("Q", "lammps"),
+        ("Q", "objective"),
+    ] {
+        let moving = |np: usize, newton: &str, sort: &str| {
+            let dump = format!("moving_{law}_{preset}_np{np}_{newton}_sort{sort}.dump");
+            lammps(
+                exe,
+                &dir,
+                np,
+                "in.packing",
+                &[
+                    ("preset", preset),
+                    ("law", law),
+                    ("newton", newton),
+                    ("sort", sort),
+                    ("vbulk", "20"),
+                    ("steps", "600"),
+                    ("dumpevery", "600"),
+                    ("dump", &dump),
+                ],
+            );
+            read_dump(&dir.join(dump))
+        };
+        let one = moving(1, "off", "0");
+        let two = moving(2, "on", "10");
+        assert_loads_agree(
+            &one[&600],
+            &two[&600],
+            1e-8,
+            &format!("law {law}, {preset}: np 2 newton on sort 10 vs np 1, step 600"),
+        );
+    }
+    for law in ["N", "R", "F", "Q"] {
+        let go = |extra: &[(&str, &str)], dump: &str| {
+            let mut vars: Vec<(&str, &str)> = vec![
+                ("law", law),
+                ("preset", "lammps"),
+                ("newton", "on"),
+                ("sort", "10"),
+                ("vbulk", "20"),
+                ("steps", "600"),
+                ("dumpevery", "300"),
+            ];
+            vars.extend_from_slice(extra);
+            vars.push(("dump", dump));
+            lammps(exe, &dir, 2, "in.packing", &vars);
+            read_dump(&dir.join(dump))
+        };
+        let restart = format!("packing_{law}.restart");
+        let reference = go(&[("split", "300")], &format!("two_runs_{law}.dump"));
+        go(
+            &[("restart_at", "300"), ("restart_file", &restart)],
+            &format!("first_{law}.dump"),
+        );
+        let resumed = go(
+            &[("from_restart", "1"), ("restart_file", &restart)],
+            &format!("resumed_{law}.dump"),
+        );
+        assert_loads_agree(
+            &reference[&600],
+            &resumed[&600],
+            1e-12,
+            &format!("law {law}, lammps: restarted at 300 vs two runs in one process, step 600"),
+        );
     }
 }
 
@@ -585,13 +793,16 @@ fn objective_preset_in_a_rigid_rotation(exe: &Path) {
 }
 
 /// Bad input is a LAMMPS error with a message, never a crash: a keyword outside the subset is
-/// named, coefficients the library refuses carry its message, and a contact the library
+/// named (an unknown tangential model, missing parameters of `linear_nohistory` and
+/// `mindlin_rescale/force`, a NULL stiffness of `mindlin_rescale` and `mindlin/force` without
+/// hertz/material: each named), coefficients the library refuses carry its message (a negative
+/// friction of `linear_nohistory`), and a contact the library
 /// refuses (two atoms at the same place) names both atom IDs and the library's message, with
 /// one rank and with two.
 fn bad_input_is_a_lammps_error_with_a_message(exe: &Path) {
     let dir = rundir("bad_input");
     let ok = "hooke 1e4 0 tangential linear_history 1e4 0 0.5 rolling sds 1 1 1 twisting sds 1 1 1";
-    let cases: [(usize, &str, &str, &str); 6] = [
+    let cases: [(usize, &str, &str, &str); 11] = [
         (
             1,
             "lammps",
@@ -601,8 +812,38 @@ fn bad_input_is_a_lammps_error_with_a_message(exe: &Path) {
         (
             1,
             "lammps",
-            "hooke 1e4 0 tangential linear_nohistory 0 0.5",
-            "tangential model 'linear_nohistory' is not supported",
+            "hooke 1e4 0 tangential mindlin_fancy 1e4 0 0.5",
+            "tangential model 'mindlin_fancy' is not supported",
+        ),
+        (
+            1,
+            "lammps",
+            "hooke 1e4 0 tangential linear_nohistory 0.5",
+            "not enough parameters for 'linear_nohistory'",
+        ),
+        (
+            1,
+            "lammps",
+            "hooke 1e4 0 tangential mindlin_rescale NULL 0 0.5",
+            "tangential mindlin_rescale NULL (the stiffness from the material) needs the hertz/material normal model",
+        ),
+        (
+            1,
+            "lammps",
+            "hertz 1e4 0 tangential mindlin/force NULL 0 0.5",
+            "tangential mindlin/force NULL (the stiffness from the material) needs the hertz/material normal model",
+        ),
+        (
+            1,
+            "lammps",
+            "hertz/material 1e5 0 0.3 tangential mindlin_rescale/force NULL 0",
+            "not enough parameters for 'mindlin_rescale/force'",
+        ),
+        (
+            1,
+            "lammps",
+            "hooke 1e4 1 tangential linear_nohistory 0.5 -0.4",
+            "sliding friction mu_s = -0.4",
         ),
         (
             1,

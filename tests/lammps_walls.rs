@@ -34,6 +34,14 @@ fn main() {
             zcylinder_lammps_preset_matches_stock,
         ),
         trial(
+            "every_tangential_model_on_the_walls_matches_stock",
+            every_tangential_model_on_the_walls_matches_stock,
+        ),
+        trial(
+            "tangential_models_on_the_walls_across_ranks_and_restart",
+            tangential_models_on_the_walls_across_ranks_and_restart,
+        ),
+        trial(
             "ranks_newton_and_sorting_carry_the_wall_histories",
             ranks_newton_and_sorting_carry_the_wall_histories,
         ),
@@ -172,6 +180,139 @@ fn zcylinder_lammps_preset_matches_stock(exe: &Path) {
         }
     }
     println!("worst over all cases: force {worst_f:.2e}, torque {worst_t:.2e}");
+}
+
+/// Every tangential model of stock `fix wall/gran granular`: laws N, L, R, F, Q (hertz/material,
+/// viscoelastic damping, rolling sds, twisting marshall, with `linear_nohistory`,
+/// `linear_history`, `mindlin_rescale NULL`, `mindlin/force NULL`, `mindlin_rescale/force
+/// NULL`; law B, `mindlin NULL`, is in the tests above) and P, T, J, K (hooke, velocity
+/// damping, rolling sds, twisting sds, with `linear_nohistory`, `mindlin/force`,
+/// `mindlin_rescale`, `mindlin_rescale/force`), on the floor and ceiling still, wiggling along
+/// their normal (the contacts load and unload with the wall's motion, so the `_rescale` models
+/// scale their springs down) and sheared, and inside the cylinder wiggling along its axis: per
+/// atom, every one of the first 100 steps, stock and `preset lammps` agree to 1e-10 relative
+/// (the tolerance of the tests above, for their reasons). The NULL stiffness is stock's wall
+/// formula `E/4 (2 - nu)(1 + nu)` for every model of the mindlin family. Control: stock's law
+/// R differs from law B (mindlin) and law Q from law F (mindlin/force) on the wiggling floor and
+/// ceiling by more than 1e-6 of the median load at some step (the rescale acts).
+fn every_tangential_model_on_the_walls_matches_stock(exe: &Path) {
+    let dir = rundir("walls_tangential");
+    let (mut worst_f, mut worst_t) = (0.0f64, 0.0f64);
+    let mut wiggling = std::collections::BTreeMap::new();
+    for law in ["N", "L", "R", "F", "Q", "P", "T", "J", "K", "B"] {
+        let (mut law_f, mut law_t) = (0.0f64, 0.0f64);
+        for (wall, motion) in [
+            ("zpair", "none"),
+            ("zpair", "wiggle"),
+            ("zpair", "shear"),
+            ("zcylinder", "wiggle"),
+        ] {
+            if law == "B" && (motion != "wiggle" || wall != "zpair") {
+                continue; // law B (mindlin): only the control's run
+            }
+            let vbulk = if wall == "zcylinder" { "3" } else { "0" };
+            let common = [
+                ("wall", wall),
+                ("law", law),
+                ("motion", motion),
+                ("vbulk", vbulk),
+                ("steps", "100"),
+                ("dumpevery", "1"),
+            ];
+            let (stock, ours) =
+                stock_and_lammps_preset(exe, &dir, &format!("{wall}_{law}_{motion}"), &common);
+            let (f, t) = worst_relative(&stock, &ours);
+            assert!(
+                f < 1e-10 && t < 1e-10,
+                "{wall} law {law} {motion}: wall/gran/rollslide preset lammps differs from stock (force {f:.2e}, torque {t:.2e})"
+            );
+            law_f = law_f.max(f);
+            law_t = law_t.max(t);
+            if wall == "zpair" && motion == "wiggle" {
+                wiggling.insert(law, stock);
+            }
+        }
+        let scenes = if law == "B" {
+            "zpair wiggling"
+        } else {
+            "zpair still, wiggling, sheared, zcylinder wiggling"
+        };
+        println!(
+            "law {law}: {scenes}, steps 0-100: worst per-atom relative difference force {law_f:.2e}, torque {law_t:.2e}"
+        );
+        worst_f = worst_f.max(law_f);
+        worst_t = worst_t.max(law_t);
+    }
+    println!("worst over all cases: force {worst_f:.2e}, torque {worst_t:.2e}");
+    for (rescaled, plain) in [("R", "B"), ("Q", "F")] {
+        let (a, b) = (&wiggling[rescaled], &wiggling[plain]);
+        let worst = a
+            .iter()
+            .map(|(step, rows)| {
+                let (f, t) = compare(rows, &b[step]);
+                f.over_median.max(t.over_median)
+            })
+            .fold(0.0, f64::max);
+        println!(
+            "control, stock law {rescaled} (rescaled) vs law {plain}, wiggling floor and ceiling: {worst:.2e} of the median load at worst"
+        );
+        assert!(worst > 1e-6, "law {rescaled}: the rescale changed nothing");
+    }
+}
+
+/// Ranks and restart for the tangential models added after those tests (laws N, R, F, Q):
+/// the floor and ceiling wiggling along their normal while the spheres move along x through 2
+/// subdomains (as below), `lammps` preset; `-np 2` newton on with sorting against one rank at
+/// step 3000 to 1e-12 of the median load, and a restart at step 1500 continued to 3000 in a new
+/// process against the same two runs in one process to 1e-12 (the tolerances below, for their
+/// reasons: equal to the bit unless a history, with the previous step's stiffness that the
+/// `_rescale` models keep in it, is lost or garbled).
+fn tangential_models_on_the_walls_across_ranks_and_restart(exe: &Path) {
+    let dir = rundir("walls_tangential_mpi");
+    for law in ["N", "R", "F", "Q"] {
+        let base = [
+            ("wall", "zpair"),
+            ("law", law),
+            ("motion", "wiggle"),
+            ("preset", "lammps"),
+            ("vbulk", "10"),
+            ("steps", "3000"),
+        ];
+        let go = |np: usize, name: &str, extra: &[(&str, &str)]| {
+            let mut vars = base.to_vec();
+            vars.extend_from_slice(extra);
+            run(exe, &dir, np, &format!("{name}_{law}.dump"), &vars)
+        };
+        let one = go(1, "np1", &[("dumpevery", "3000")]);
+        let two = go(
+            2,
+            "np2",
+            &[("dumpevery", "3000"), ("newton", "on"), ("sort", "10")],
+        );
+        assert_loads_agree(
+            &one[&3000],
+            &two[&3000],
+            1e-12,
+            &format!("law {law}: np 2 newton on sort 10 vs np 1, step 3000"),
+        );
+        let restart = format!("tangential_{law}.restart");
+        let mpi = [("newton", "on"), ("sort", "10"), ("dumpevery", "1500")];
+        let mut split = mpi.to_vec();
+        split.push(("split", "1500"));
+        let reference = go(2, "two_runs", &split);
+        let mut first = mpi.to_vec();
+        first.extend([("restart_at", "1500"), ("restart_file", restart.as_str())]);
+        go(2, "first", &first);
+        let mut resumed_vars = mpi.to_vec();
+        resumed_vars.extend([("from_restart", "1"), ("restart_file", restart.as_str())]);
+        let resumed = go(2, "resumed", &resumed_vars);
+        assert_loads_agree(
+            &reference[&3000],
+            &resumed[&3000],
+            1e-12,
+            &format!("law {law}: restarted at 1500 vs two runs in one process, step 3000"),
+        );
+    }
 }
 
 /// Ranks, newton and sorting: the spheres move as a whole along the walls (at speed 10 along x
@@ -334,7 +475,8 @@ fn restart_continues_the_wall_run(exe: &Path) {
 }
 
 /// With `compute rollslide/energy`, the wall fix tallies its contacts (the `wall` columns): the
-/// budget `dE_kin + dE_rot + dE_pot + dE_elastic + E_dissipated - E_transport` over 0.4 time
+/// budget `dE_kin + dE_rot + dE_pot + dE_elastic + E_dissipated - E_transport -
+/// E_stiffness_change` (the last 0 for these linear laws) over 0.4 time
 /// units (E_pot: the gravity's, or the radial push's) closes to the time-integration error,
 /// which falls in proportion to dt:
 /// - the normal force alone (`tangential linear_history 0 0 0`, the fix's own terms: the normal
@@ -350,12 +492,16 @@ fn restart_continues_the_wall_run(exe: &Path) {
 /// contact is tallied once, by its atom's owner, and its springs' last energies move with it).
 fn wall_contacts_are_tallied_in_the_energy_budget(exe: &Path) {
     let dir = rundir("walls_energy");
-    // Thermo columns with energy 1: step ke rke mean|torque| epot transport dissipated elastic.
+    // Thermo columns with energy 1: step ke rke mean|torque| epot transport dissipated elastic
+    // stiffness-change.
     let budget = |rows: &[Vec<f64>]| {
         let e = |r: &[f64]| r[1] + r[2] + r[4] + r[7];
         let (a, b) = (&rows[0], rows.last().unwrap());
         let dissipated = b[6] - a[6];
-        (e(b) - e(a) + dissipated - (b[5] - a[5]), dissipated)
+        (
+            e(b) - e(a) + dissipated - (b[5] - a[5]) - (b[8] - a[8]),
+            dissipated,
+        )
     };
     let go = |np: usize, dt: &str, extra: &[(&str, &str)]| {
         let steps = format!("{}", (0.4 / dt.parse::<f64>().unwrap()).round() as u64);
@@ -411,7 +557,12 @@ fn wall_contacts_are_tallied_in_the_energy_budget(exe: &Path) {
     two_vars.extend([("newton", "on"), ("sort", "10")]);
     let two = go(2, "2e-4", &two_vars);
     let (a, b) = (one.last().unwrap(), two.last().unwrap());
-    for (k, name) in [(5, "transport"), (6, "dissipated"), (7, "elastic")] {
+    for (k, name) in [
+        (5, "transport"),
+        (6, "dissipated"),
+        (7, "elastic"),
+        (8, "stiffness change"),
+    ] {
         let d = (a[k] - b[k]).abs();
         println!("np 2 vs np 1, {name}: {:.6e} vs {:.6e}", a[k], b[k]);
         assert!(
@@ -423,7 +574,8 @@ fn wall_contacts_are_tallied_in_the_energy_budget(exe: &Path) {
 
 /// Bad arguments are LAMMPS errors with a message naming what is wrong, never a crash: an
 /// unknown or unsupported wall style, a cylinder radius that is not positive, missing
-/// coefficients, an unknown keyword, the interaction styles and keywords outside the subset,
+/// coefficients (`linear_nohistory`'s), a NULL stiffness of the mindlin family without
+/// hertz/material (naming the model), an unknown tangential model, an unknown keyword, the interaction styles and keywords outside the subset,
 /// coefficients the library refuses (its message), and a contact the library refuses (an atom
 /// with velocity 1e308, whose loads overflow), which names the atom, the fix and the wall, on
 /// one rank and on the second of two.
@@ -480,6 +632,41 @@ fn bad_wall_arguments_are_lammps_errors(exe: &Path) {
         ),
         (1, g("zplane 0.0 NULL shear z 1.0"), "zplane", "0", "shear must be along the wall"),
         (1, g("xplane 0.0 10.0"), "zplane", "0", "xplane wall in a periodic dimension"),
+        (
+            1,
+            "granular hooke 1e4 0 tangential mindlin_rescale NULL 0 0.5 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "tangential mindlin_rescale NULL (the stiffness from the material) needs the hertz/material normal model",
+        ),
+        (
+            1,
+            "granular hertz 1e4 0 tangential mindlin_rescale/force NULL 0 0.5 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "tangential mindlin_rescale/force NULL (the stiffness from the material) needs the hertz/material normal model",
+        ),
+        (
+            1,
+            "granular hooke 1e4 0 tangential linear_nohistory 0.5".into(),
+            "zplane",
+            "0",
+            "not enough parameters for 'linear_nohistory'",
+        ),
+        (
+            1,
+            "granular hooke 1e4 0 tangential mindlin/force NULL 0 0.5 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "tangential mindlin/force NULL (the stiffness from the material) needs the hertz/material normal model",
+        ),
+        (
+            1,
+            "granular hooke 1e4 0 tangential mindlin_fancy 1e4 0 0.5 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "tangential model 'mindlin_fancy' is not supported",
+        ),
         (
             1,
             format!("granular {ok} rolling sds -1 1 1 zplane 0.0 NULL"),

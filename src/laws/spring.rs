@@ -228,8 +228,9 @@ pub fn vector_spring<T: Real>(
                     let mut damped = mask::<T>(true);
                     if rule == ClipRule::Lammps {
                         // LAMMPS: a slipping spring of zero length gives no load at all and stays
-                        // empty.
-                        let empty = slipped & norm_squared(&trial).simd_le(zero);
+                        // empty. Not without a spring (k = 0, LAMMPS' linear_nohistory): there the
+                        // load is the dashpot's, clipped.
+                        let empty = slipped & k_positive & norm_squared(&trial).simd_le(zero);
                         load = select3(empty, &Vec3::zeros(), &load);
                         new_spring = select3(empty, &trial, &new_spring);
                         new_elastic = select3(empty, &elastic_trial, &new_elastic);
@@ -416,6 +417,34 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
     use simba::simd::SimdValue;
+
+    /// LAMMPS' empty-spring rule (a slipping spring of zero length gives no load) is a rule of
+    /// a spring: with `k = 0` (LAMMPS' `linear_nohistory`) a slipping dashpot still gives its
+    /// load clipped at the limit, `-limit v / |v|`, as stock's no-history branch does, also in a
+    /// setup pass of a fresh contact; with `k > 0` the rule holds.
+    #[test]
+    fn the_lammps_empty_spring_rule_needs_a_spring() {
+        let rate = Vec3::new(3.0, -4.0, 0.0);
+        for (k, want) in [(0.0, Vec3::new(-1.2, 1.6, 0.0)), (50.0, Vec3::zeros())] {
+            let c = SpringCoefficients {
+                stiffness: k,
+                damping: 1.0,
+                limit: 2.0,
+            };
+            let r = vector_spring::<f64>(
+                &Vec3::zeros(),
+                &rate,
+                1e-3,
+                &c,
+                ClipRule::Lammps,
+                Storage::Displacement,
+                false,
+                false,
+            );
+            assert!(r.slipped, "k = {k}");
+            assert!((r.load - want).norm() < 1e-15, "k = {k}: {:?}", r.load);
+        }
+    }
 
     /// The clip's own test, as `vector_spring` computes it after the square root.
     fn clip_test_slips(v2: f64, limit: f64) -> bool {

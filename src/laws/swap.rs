@@ -17,14 +17,14 @@
 //! | `rolling_spring`, length form | kept | `v_r = R_r (w1 - w2) x n` is unchanged: both factors change sign |
 //! | `rolling_spring`, angle form | negated | `theta_r` integrates `(w1 - w2)_t` (YADE, LIGGGHTS presets: the moment on body 1) |
 //! | `twisting_angle` | kept | `w_tw = (w1 - w2) . n` is unchanged (YADE preset: the moment on body 1 along the previous normal, which also flips) |
-//! | `model_memory` | negated | part of the moment on body 1 (YADE preset) |
+//! | `model_memory` | YADE preset: negated; others: kept | YADE: part of the moment on body 1; others: the previous stiffnesses, a property of the contact |
 //! | `previous_normal` | negated | the normal points from body 1 to body 2 |
 //!
 //! The transport of the springs uses the same rotation for both orders (the minimal rotation
 //! between two normals and the spin about the new normal are both even under `n -> -n` with
 //! `w1 + w2` kept), so the mirrored state stays the mirror after any number of steps.
 
-use crate::laws::model::{Model, RollingForm};
+use crate::laws::model::{Model, Preset, RollingForm};
 use crate::laws::step::ContactState;
 use crate::scalar::Real;
 
@@ -40,7 +40,13 @@ pub fn mirror_state<T: Real>(model: &Model, state: &ContactState<T>) -> ContactS
         sliding_spring: -state.sliding_spring,
         rolling_spring,
         twisting_angle: state.twisting_angle,
-        model_memory: -state.model_memory,
+        // YADE's off-axis twisting moment is a moment on body 1 (it flips); the previous
+        // stiffnesses other models keep there belong to the contact (they do not).
+        model_memory: if model.preset == Preset::Yade2023 {
+            -state.model_memory
+        } else {
+            state.model_memory
+        },
         previous_normal: -state.previous_normal,
     }
 }

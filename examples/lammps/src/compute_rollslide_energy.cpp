@@ -1,8 +1,9 @@
 // compute rollslide/energy: see compute_rollslide_energy.h.
 //
-// The cumulative per-atom columns (dissipation, transport) live in an internal fix (class Store below, style
-// `rollslide/energy/store`, ID `ROLLSLIDE_ENERGY_<compute ID>`, group all) that the compute
-// creates in its constructor and deletes in its destructor. The fix moves the columns with
+// The cumulative per-atom columns (dissipation, transport, stiffness change) live in an
+// internal fix (class Store below, style `rollslide/energy/store`, ID
+// `ROLLSLIDE_ENERGY_<compute ID>`, group all) that the compute creates in its constructor and
+// deletes in its destructor. The fix moves the columns with
 // their atoms (exchange between ranks, atom sorting) and writes them into restart files
 // (restart_peratom). After read_restart, LAMMPS keeps every fix's per-atom restart values by
 // fix ID and style until the first run; a fix created before then with the same ID and style
@@ -36,13 +37,15 @@ using namespace FixConst;
 namespace {
 constexpr int NDISSIPATION = ComputeRollslideEnergy::WALL_TWISTING_FRICTION + 1;
 constexpr int NCOLUMNS = ComputeRollslideEnergy::NCOLUMNS;
-constexpr int NCUMULATIVE = ComputeRollslideEnergy::NCUMULATIVE;
 constexpr int NSLOTS = ComputeRollslideEnergy::NSLOTS;
-// The slots sent with an atom and written to restart files: all but the padding.
-constexpr int NSTORED = NCUMULATIVE;
-static_assert(ComputeRollslideEnergy::slot(ComputeRollslideEnergy::TRANSPORT) == NSTORED - 8 &&
-                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::WALL_TWISTING_FRICTION) == NSTORED - 1 &&
-                  NSTORED <= NSLOTS,
+// The slots sent with an atom and written to restart files: all of them (the stiffness change
+// last; restart files written before it have the 15 before it, and are read as such).
+constexpr int NSTORED = ComputeRollslideEnergy::NCUMULATIVE;
+constexpr int NSTORED_BEFORE_STIFFNESS = NSTORED - 1;
+static_assert(ComputeRollslideEnergy::slot(ComputeRollslideEnergy::TRANSPORT) == 7 &&
+                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::WALL_TWISTING_FRICTION) == NSTORED - 2 &&
+                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::STIFFNESS_CHANGE) == NSTORED - 1 &&
+                  NSTORED == NSLOTS,
               "slot layout");
 constexpr int NELASTIC = ComputeRollslideEnergy::NELASTIC;
 }    // namespace
@@ -117,7 +120,11 @@ class ComputeRollslideEnergy::Store : public Fix {
     double *extra = atom->extra[nlocal];
     int m = 0;
     for (int k = 0; k < nth; k++) m += static_cast<int>(extra[m]);
-    memcpy(values[nlocal], &extra[m + 1], NSTORED * sizeof(double));
+    // A restart file written before the stiffness change column has the slots before it only:
+    // that column starts from zero.
+    const int n = static_cast<int>(extra[m]) - 1 >= NSTORED ? NSTORED : NSTORED_BEFORE_STIFFNESS;
+    memset(values[nlocal], 0, NSTORED * sizeof(double));
+    memcpy(values[nlocal], &extra[m + 1], n * sizeof(double));
   }
   int size_restart(int) override { return NSTORED + 1; }
   int maxsize_restart() override { return NSTORED + 1; }
@@ -209,7 +216,8 @@ void ComputeRollslideEnergy::compute_vector()
   memset(local, 0, sizeof local);
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++)
-    for (int c = 0; c < NCUMULATIVE; c++) local[c] += cumulative[i][slot(c)];
+    for (int c = 0; c < NCOLUMNS; c++)
+      if (cumulative_column(c)) local[c] += cumulative[i][slot(c)];
   // The elastic columns of the last pass (none if the atoms changed since: no pass yet).
   if (elastic.size() == (size_t) NELASTIC * nlocal)
     for (int i = 0; i < nlocal; i++)
@@ -217,7 +225,7 @@ void ComputeRollslideEnergy::compute_vector()
   for (int c = 0; c < NDISSIPATION; c++) local[NCOLUMNS + c] = pass[slot(c)];
   MPI_Allreduce(local, all, NCOLUMNS + NDISSIPATION, MPI_DOUBLE, MPI_SUM, world);
 
-  for (int c = 0; c < NCOLUMNS; c++) values[c] = all[c];
+  for (int c = 0; c < NCOLUMNS; c++) values[vector_index(c)] = all[c];
   double dissipated = 0.0, rate = 0.0;
   for (int c = 0; c < NDISSIPATION; c++) {
     dissipated += all[c];
@@ -240,7 +248,8 @@ void ComputeRollslideEnergy::compute_peratom()
   const int nlocal = atom->nlocal;
   const bool now = elastic.size() == (size_t) NELASTIC * nlocal;
   for (int i = 0; i < nlocal; i++) {
-    for (int c = 0; c < NCUMULATIVE; c++) peratom[i][c] = cumulative[i][slot(c)];
+    for (int c = 0; c < NCOLUMNS; c++)
+      if (cumulative_column(c)) peratom[i][c] = cumulative[i][slot(c)];
     for (int c = 0; c < NELASTIC; c++) peratom[i][ELASTIC_NORMAL + c] = now ? elastic[NELASTIC * i + c] : 0.0;
   }
   array_atom = peratom;

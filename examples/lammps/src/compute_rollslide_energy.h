@@ -2,7 +2,8 @@
 //
 // Where the energy of the rollslide contacts goes, by mechanism: what the contacts of
 // pair_style granular/rollslide and of fix wall/gran/rollslide dissipated since the compute was
-// defined (carried through restart files) and the elastic energy their springs hold now.
+// defined (carried through restart files), the elastic energy their springs hold now, and
+// what the springs' transport and their changes of stiffness added to it.
 //
 // The producers (the pair style and every rollslide wall fix) find this compute in their init
 // (the first compute of this style), make their library models track energy, and report every
@@ -24,7 +25,9 @@ class ComputeRollslideEnergy : public Compute {
   static constexpr const char *STYLE = "rollslide/energy";
 
   // The columns of the per-atom array, in this order (energy units); the global vector holds
-  // their sums over all atoms, then the extra entries after NCOLUMNS.
+  // their sums over all atoms (`vector_index`): the columns before STIFFNESS_CHANGE, then the
+  // extra entries (Extra), then STIFFNESS_CHANGE's (appended last in both, so that the older
+  // columns kept their numbers).
   enum Column {
     // Dissipated since the compute was defined, by contacts between two particles.
     PAIR_NORMAL_DAMPING,
@@ -50,6 +53,11 @@ class ComputeRollslideEnergy : public Compute {
     ELASTIC_SLIDING,
     ELASTIC_ROLLING,
     ELASTIC_TWISTING,
+    // Change of the springs' elastic energy by their changes of stiffness with no work done
+    // (rsl_contact_energy.stiffness_change: Mindlin's k_t = kt a and Marshall's twisting
+    // stiffness follow the contact radius), summed since the compute was defined, pair and
+    // wall contacts. A closed system's budget subtracts it as it does TRANSPORT.
+    STIFFNESS_CHANGE,
     NCOLUMNS
   };
 
@@ -103,6 +111,9 @@ class ComputeRollslideEnergy : public Compute {
     const double t = share * energy.transport;
     cumulative[i][TRANSPORT_SLOT] += t;
     pass[TRANSPORT_SLOT] += t;
+    const double stiffness = share * energy.stiffness_change;
+    cumulative[i][STIFFNESS_SLOT] += stiffness;
+    pass[STIFFNESS_SLOT] += stiffness;
     double *e = &elastic[NELASTIC * i];
     e[0] += share * normal_elastic;
     e[1] += share * energy.elastic_sliding;
@@ -125,6 +136,7 @@ class ComputeRollslideEnergy : public Compute {
         0.5 * energy.slider_twisting, 0.5 * energy.transport};
     const double el[NELASTIC] = {0.5 * normal_elastic, 0.5 * energy.elastic_sliding,
                                  0.5 * energy.elastic_rolling, 0.5 * energy.elastic_twisting};
+    const double stiffness = 0.5 * energy.stiffness_change;
     double **cum = cumulative;
     double *now = elastic.data();
     for (int a = 0; a < 2; a++) {
@@ -132,33 +144,52 @@ class ComputeRollslideEnergy : public Compute {
       const int atom_index = a == 0 ? i : j;
       double *c = cum[atom_index];
       for (int k = 0; k < WALL_SLOT; k++) c[k] += x[k];    // the 7 pair columns, transport
+      // (Another cache line of the row: left alone by the laws whose stiffness is constant.)
+      if (stiffness != 0.0) c[STIFFNESS_SLOT] += stiffness;
       double *e = now + NELASTIC * atom_index;
       for (int k = 0; k < NELASTIC; k++) e[k] += el[k];
     }
     const double w = (take_i ? 1.0 : 0.0) + (take_j ? 1.0 : 0.0);
     for (int k = 0; k < WALL_SLOT; k++) pass[k] += w * x[k];
+    pass[STIFFNESS_SLOT] += w * stiffness;
   }
 
-  // The global vector: the NCOLUMNS sums, then these entries (energy, energy/time).
+  // The global vector: the sums of the columns before STIFFNESS_CHANGE, then these entries
+  // (energy, energy/time), then the sum of STIFFNESS_CHANGE.
   enum Extra {
-    TOTAL_DISSIPATED = NCOLUMNS,    // the 14 dissipation columns summed
-    TOTAL_ELASTIC,                  // the 4 elastic columns summed
-    RATE,                           // total dissipation rate of the last contact pass
-    RATE_FIRST,                     // then each dissipation column's rate, in column order
-    NVECTOR = RATE_FIRST + WALL_TWISTING_FRICTION + 1
+    TOTAL_DISSIPATED = STIFFNESS_CHANGE,    // the 14 dissipation columns summed
+    TOTAL_ELASTIC,                          // the 4 elastic columns summed
+    RATE,                                   // total dissipation rate of the last contact pass
+    RATE_FIRST,    // then each dissipation column's rate, in column order
+    STIFFNESS_CHANGE_SUM = RATE_FIRST + WALL_TWISTING_FRICTION + 1,
+    NVECTOR
   };
-  // The cumulative columns (dissipation and transport), kept by the store, and the elastic
-  // ones, kept by the compute for the current pass.
-  static constexpr int NCUMULATIVE = TRANSPORT + 1;
-  static constexpr int NELASTIC = NCOLUMNS - ELASTIC_NORMAL;
+  // A column's entry in the global vector.
+  static constexpr int vector_index(int column)
+  {
+    return column == STIFFNESS_CHANGE ? STIFFNESS_CHANGE_SUM : column;
+  }
+  // The cumulative columns (dissipation, transport, stiffness change), kept by the store, and
+  // the elastic ones, kept by the compute for the current pass.
+  static constexpr bool cumulative_column(int column)
+  {
+    return column <= TRANSPORT || column == STIFFNESS_CHANGE;
+  }
+  static constexpr int NCUMULATIVE = TRANSPORT + 2;
+  static constexpr int NELASTIC = ELASTIC_TWISTING + 1 - ELASTIC_NORMAL;
   // The store's row of an atom holds the cumulative columns in slots: the 8 a contact between
   // particles adds to (its 7 dissipation columns, then TRANSPORT) first, in one 64-byte cache
-  // line, then the wall's 7, then padding.
+  // line, then the wall's 7, then STIFFNESS_CHANGE (which only the mindlin family and Marshall's
+  // twisting change).
   static constexpr int TRANSPORT_SLOT = PAIR_TWISTING_FRICTION + 1, WALL_SLOT = TRANSPORT_SLOT + 1;
+  static constexpr int STIFFNESS_SLOT = WALL_SLOT + 7;
   static constexpr int NSLOTS = 16;
   static constexpr int slot(int column)
   {
-    return column < WALL_NORMAL_DAMPING ? column : column < TRANSPORT ? column + 1 : TRANSPORT_SLOT;
+    return column < WALL_NORMAL_DAMPING ? column
+        : column < TRANSPORT            ? column + 1
+        : column == TRANSPORT           ? TRANSPORT_SLOT
+                                        : STIFFNESS_SLOT;
   }
 
   // The fix holding the cumulative per-atom columns (internal; created and deleted by the
@@ -174,7 +205,7 @@ class ComputeRollslideEnergy : public Compute {
   int nmax_peratom = 0;
   bool new_pass = true;      // the next begin_step starts a contact pass (set by the store)
   double pass_dt = 0.0;      // the time step of the last pass
-  double pass[NSLOTS];       // this rank's dissipation and transport in the last pass, by slot
+  double pass[NSLOTS];       // this rank's cumulative terms in the last pass, by slot
   double values[NVECTOR];    // the global vector
   void clear_pass();
 };

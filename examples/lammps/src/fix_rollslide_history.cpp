@@ -76,7 +76,7 @@ void FixRollslideHistory::pack_partner(const Partner &p, double *buf)
                                           s.sliding_spring.x, s.sliding_spring.y, s.sliding_spring.z,
                                           s.rolling_spring.x, s.rolling_spring.y, s.rolling_spring.z,
                                           s.twisting_angle,
-                                          s.twisting_offaxis.x, s.twisting_offaxis.y, s.twisting_offaxis.z,
+                                          s.model_memory.x, s.model_memory.y, s.model_memory.z,
                                           s.previous_normal.x, s.previous_normal.y, s.previous_normal.z,
                                           (double) s.slip_flags};
   memcpy(buf, values, sizeof values);
@@ -89,7 +89,7 @@ void FixRollslideHistory::unpack_partner(const double *b, Partner &p)
   s.sliding_spring = {b[1], b[2], b[3]};
   s.rolling_spring = {b[4], b[5], b[6]};
   s.twisting_angle = b[7];
-  s.twisting_offaxis = {b[8], b[9], b[10]};
+  s.model_memory = {b[8], b[9], b[10]};
   s.previous_normal = {b[11], b[12], b[13]};
   s.slip_flags = (uint32_t) b[14];
   s.reserved = 0;

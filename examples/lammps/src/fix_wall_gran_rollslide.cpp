@@ -10,8 +10,9 @@
 // read, not copied): the distance to the nearer wall of a plane pair, the cylinder's effective
 // radius R r_w / (R + r_w) with r_w = -2 r_c inside, +2 r_c outside (the normal force and
 // Marshall's contact radius use it), the wall's velocity under wiggle and shear, m_eff = the
-// atom's mass, the wall coefficients of hertz/material and of `mindlin NULL` as stock computes
-// them (not pair granular's), no history increment in the setup pass, one history per atom.
+// atom's mass, the wall coefficients of hertz/material and of `mindlin NULL` (any model of the
+// mindlin family) as stock computes them (not pair granular's), no history increment in the
+// setup pass, one history per atom.
 #include "fix_wall_gran_rollslide.h"
 
 #include "compute_rollslide_energy.h"
@@ -105,7 +106,9 @@ FixWallGranRollslide::FixWallGranRollslide(LAMMPS *lmp, int narg, char **arg) : 
     }
     if (coeffs.normal == granular::HERTZ_MATERIAL)
       coeffs.kn = coeffs.emod / (2 * (1 - coeffs.poisson)) * stock_four_thirds;
-    if (tangential_at >= 0 && strcmp(arg[tangential_at + 1], "mindlin") == 0 &&
+    // (The last tangential keyword is the model parse() kept: any of the mindlin family takes
+    // NULL, and parse() read its three parameters.)
+    if (tangential_at >= 0 && granular::is_mindlin(coeffs.tangential) &&
         strcmp(arg[tangential_at + 2], "NULL") == 0)
       coeffs.kt = coeffs.emod / 4 * (2 - coeffs.poisson) * (1 + coeffs.poisson);
     if (coeffs.damping == granular::TSUJI && normal_at >= 0) {
@@ -481,6 +484,7 @@ void FixWallGranRollslide::post_force(int vflag)
           e.elastic_rolling += e.slider_rolling;
           e.elastic_twisting += e.slider_twisting;
           e.slider_sliding = e.slider_rolling = e.slider_twisting = e.transport = 0.0;
+          e.stiffness_change = 0.0;
         }
       }
       energy->tally(i, 1.0, true, e, normal_dissipated, nf.elastic);
@@ -656,7 +660,7 @@ void FixWallGranRollslide::pack_atom(int i, double *buf) const
       s.sliding_spring.x,   s.sliding_spring.y,   s.sliding_spring.z,
       s.rolling_spring.x,   s.rolling_spring.y,   s.rolling_spring.z,
       s.twisting_angle,
-      s.twisting_offaxis.x, s.twisting_offaxis.y, s.twisting_offaxis.z,
+      s.model_memory.x, s.model_memory.y, s.model_memory.z,
       s.previous_normal.x,  s.previous_normal.y,  s.previous_normal.z,
       (double) s.slip_flags, (double) side[i],
       spring_energy[3 * i], spring_energy[3 * i + 1], spring_energy[3 * i + 2]};
@@ -669,7 +673,7 @@ void FixWallGranRollslide::unpack_atom(const double *b, int i)
   s.sliding_spring = {b[0], b[1], b[2]};
   s.rolling_spring = {b[3], b[4], b[5]};
   s.twisting_angle = b[6];
-  s.twisting_offaxis = {b[7], b[8], b[9]};
+  s.model_memory = {b[7], b[8], b[9]};
   s.previous_normal = {b[10], b[11], b[12]};
   s.slip_flags = (uint32_t) b[13];
   s.reserved = 0;

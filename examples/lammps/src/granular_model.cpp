@@ -37,6 +37,28 @@ double mix_g(double e1, double e2, double nu1, double nu2)
 
 }    // namespace
 
+int32_t granular::sliding_history(int tangential)
+{
+  switch (tangential) {
+    case MINDLIN_RESCALE: return RSL_SLIDING_HISTORY_DISPLACEMENT_RESCALED;
+    case MINDLIN_FORCE: return RSL_SLIDING_HISTORY_FORCE;
+    case MINDLIN_RESCALE_FORCE: return RSL_SLIDING_HISTORY_FORCE_RESCALED;
+    default: return RSL_SLIDING_HISTORY_DISPLACEMENT;    // linear_*, mindlin
+  }
+}
+
+const char *granular::tangential_name(int tangential)
+{
+  switch (tangential) {
+    case LINEAR_NOHISTORY: return "linear_nohistory";
+    case LINEAR_HISTORY: return "linear_history";
+    case MINDLIN: return "mindlin";
+    case MINDLIN_RESCALE: return "mindlin_rescale";
+    case MINDLIN_FORCE: return "mindlin/force";
+    default: return "mindlin_rescale/force";
+  }
+}
+
 bool Coeffs::operator==(const Coeffs &o) const
 {
   return normal == o.normal && kn == o.kn && damp == o.damp && emod == o.emod &&
@@ -86,16 +108,36 @@ int granular::parse(LAMMPS *lmp, int narg, char **arg, int iarg, Coeffs &c,
     } else if (strcmp(kw, "tangential") == 0) {
       need(iarg, 1, kw);
       const char *t = arg[iarg + 1];
-      if (strcmp(t, "linear_history") == 0) c.tangential = LINEAR_HISTORY;
-      else if (strcmp(t, "mindlin") == 0) c.tangential = MINDLIN;
-      else fail(what + ": tangential model '" + t + "' is not supported");
-      need(iarg, 4, t);
-      if (c.tangential == MINDLIN && strcmp(arg[iarg + 2], "NULL") == 0) kt_null = true;
-      else c.kt = num(iarg + 2);
-      c.xgammat = num(iarg + 3);
-      c.mu_s = num(iarg + 4);
+      static const int models[] = {LINEAR_NOHISTORY, LINEAR_HISTORY, MINDLIN, MINDLIN_RESCALE,
+                                   MINDLIN_FORCE, MINDLIN_RESCALE_FORCE};
+      bool known = false;
+      for (int m : models)
+        if (strcmp(t, tangential_name(m)) == 0) {
+          c.tangential = m;
+          known = true;
+        }
+      if (!known)
+        fail(what + ": tangential model '" + t +
+             "' is not supported (linear_nohistory, linear_history, mindlin, mindlin_rescale, "
+             "mindlin/force, mindlin_rescale/force)");
+      if (c.tangential == LINEAR_NOHISTORY) {
+        // gammat mu_s: no spring (stock stores k_t = 0).
+        need(iarg, 3, t);
+        c.kt = 0.0;
+        c.xgammat = num(iarg + 2);
+        c.mu_s = num(iarg + 3);
+        kt_null = false;
+        iarg += 4;
+      } else {
+        // kt|NULL xgammat mu_s (NULL: the mindlin family with hertz/material only, below).
+        need(iarg, 4, t);
+        kt_null = is_mindlin(c.tangential) && strcmp(arg[iarg + 2], "NULL") == 0;
+        if (!kt_null) c.kt = num(iarg + 2);
+        c.xgammat = num(iarg + 3);
+        c.mu_s = num(iarg + 4);
+        iarg += 5;
+      }
       has_tangential = true;
-      iarg += 5;
     } else if (strcmp(kw, "rolling") == 0) {
       need(iarg, 1, kw);
       if (strcmp(arg[iarg + 1], "none") == 0) {
@@ -137,13 +179,15 @@ int granular::parse(LAMMPS *lmp, int narg, char **arg, int iarg, Coeffs &c,
     } else {
       fail(what + ": keyword '" + kw +
            "' is not supported (normal hooke, hertz, hertz/material; damping velocity, "
-           "mass_velocity, viscoelastic, tsuji; tangential linear_history, mindlin; rolling "
-           "sds; twisting sds, marshall; cutoff; limit_damping)");
+           "mass_velocity, viscoelastic, tsuji; tangential linear_nohistory, linear_history, "
+           "mindlin, mindlin_rescale, mindlin/force, mindlin_rescale/force; rolling sds; "
+           "twisting sds, marshall; cutoff; limit_damping)");
     }
   }
   if (!has_normal || !has_tangential) fail(what + ": a normal model and a tangential model are required");
   if (kt_null && c.normal != HERTZ_MATERIAL)
-    fail(what + ": NULL tangential stiffness needs the hertz/material normal model");
+    fail(what + ": tangential " + tangential_name(c.tangential) +
+         " NULL (the stiffness from the material) needs the hertz/material normal model");
   // As pair granular stores them.
   if (c.damping == TSUJI) {
     double cor = c.damp;
@@ -163,7 +207,12 @@ rsl_model *granular::new_model(int32_t preset, const Coeffs &c, bool track_energ
   // The sliding dashpot is per contact (xgammat times the normal damping prefactor),
   // except with `damping velocity`, where it is the constant xgammat eta_n.
   double gamma_t = c.damping == VELOCITY ? c.xgammat * c.damp : 0.0;
+  // linear_nohistory: the linear law without a spring (k_t = 0: the dashpot's force, clipped
+  // at the friction limit); the mindlin family's k_t = kt a comes per contact. What the spring
+  // stores (a displacement or its elastic force) and whether it is scaled down with k_t on
+  // unloading: RSL_SLIDING_HISTORY_*.
   if (st == RSL_OK) st = rsl_model_set_sliding(m, RSL_SLIDING_LINEAR, c.kt, gamma_t, c.mu_s);
+  if (st == RSL_OK) st = rsl_model_set_sliding_history(m, sliding_history(c.tangential));
   if (st == RSL_OK && c.rolling) {
     rsl_rolling_params p;
     st = rsl_model_get_rolling(m, &p);

@@ -20,7 +20,29 @@ namespace granular {
 
 enum Normal { HOOKE, HERTZ, HERTZ_MATERIAL };
 enum Damping { VELOCITY, MASS_VELOCITY, VISCOELASTIC, TSUJI };
-enum Tangential { LINEAR_HISTORY, MINDLIN };
+// LAMMPS' tangential models. linear_nohistory: a dashpot clipped at the friction limit (no
+// spring: k_t = 0 in the library's linear law); linear_history: a spring of constant k_t;
+// the mindlin family: k_t = kt a (a = sqrt(delta R_eff), the contact radius), the spring
+// storing a displacement (mindlin, mindlin_rescale) or its elastic force (mindlin/force,
+// mindlin_rescale/force), the _rescale ones scaling it down when a falls (unloading).
+enum Tangential {
+  LINEAR_NOHISTORY,
+  LINEAR_HISTORY,
+  MINDLIN,
+  MINDLIN_RESCALE,
+  MINDLIN_FORCE,
+  MINDLIN_RESCALE_FORCE
+};
+// Whether a tangential model scales k_t with the contact radius (the mindlin family).
+inline bool is_mindlin(int tangential)
+{
+  return tangential == MINDLIN || tangential == MINDLIN_RESCALE || tangential == MINDLIN_FORCE ||
+      tangential == MINDLIN_RESCALE_FORCE;
+}
+// The library's sliding history of a tangential model (RSL_SLIDING_HISTORY_*).
+int32_t sliding_history(int tangential);
+// The keyword of a tangential model, as pair_coeff takes it.
+const char *tangential_name(int tangential);
 enum Twist { TWIST_NONE, TWIST_SDS, TWIST_MARSHALL };
 
 // One contact model's coefficients, stored as LAMMPS' pair granular stores them.
@@ -32,7 +54,7 @@ struct Coeffs {
   double emod = 0.0, poisson = 0.0;
   int damping = VISCOELASTIC;
   int tangential = LINEAR_HISTORY;
-  double kt = 0.0, xgammat = 0.0, mu_s = 0.0;
+  double kt = 0.0, xgammat = 0.0, mu_s = 0.0;    // linear_nohistory: kt = 0
   bool rolling = false;
   double kr = 0.0, gr = 0.0, mu_r = 0.0;
   int twist = TWIST_NONE;
@@ -65,7 +87,7 @@ struct NormalForce {
   double elastic_force;      // the normal spring's part of `force`
   double damping_force;      // the dashpot's part of `force` before limit_damping: -eta vn
   double elastic;            // energy of the normal spring at this overlap
-  double sliding_stiffness;  // k_t (mindlin: k_t a)
+  double sliding_stiffness;  // k_t (the mindlin family: kt a; linear_nohistory: 0)
   double sliding_damping;    // gamma_t = xgammat times the normal dashpot's prefactor
   bool per_contact_stiffness, per_contact_damping;  // whether the step must pass them
 };
@@ -101,10 +123,10 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
   out.elastic = (c.normal == HOOKE ? 0.5 : 0.4) * Fne * delta;
   // The per-contact sliding coefficients of pair granular: the tangential dashpot scales with
   // the normal one for every damping model but velocity (with velocity it is the model's
-  // constant xgammat eta_n, to the bit), mindlin's k_t with a (linear_history's is the model's
-  // constant).
+  // constant xgammat eta_n, to the bit), the mindlin family's k_t with a (linear_history's
+  // and linear_nohistory's is the model's constant).
   out.per_contact_damping = c.damping != VELOCITY;
-  out.per_contact_stiffness = c.tangential == MINDLIN;
+  out.per_contact_stiffness = is_mindlin(c.tangential);
   out.sliding_damping = c.xgammat * damp_normal_prefactor;
   out.sliding_stiffness = out.per_contact_stiffness ? c.kt * a : c.kt;
   return out;

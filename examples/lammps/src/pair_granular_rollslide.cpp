@@ -261,10 +261,10 @@ rsl_model *PairGranularRollslide::new_model(const Coeffs &c, int i, int j)
   return m;
 }
 
-// Groups the type pairs I <= J by law set (the library laws new_model sets: rolling, twisting),
-// in the order of their first pair; (J, I) goes with (I, J), whose coefficients it has. A group
-// of several pairs gets a model of its own with a table of their models' coefficient sets, set
-// k being the group's k-th pair.
+// Groups the type pairs I <= J by law set (the library laws new_model sets: rolling, twisting,
+// what the sliding spring stores), in the order of their first pair; (J, I) goes with (I, J),
+// whose coefficients it has. A group of several pairs gets a model of its own with a table of
+// their models' coefficient sets, set k being the group's k-th pair.
 void PairGranularRollslide::build_groups()
 {
   const int n = ntypes + 1;
@@ -275,9 +275,11 @@ void PairGranularRollslide::build_groups()
     for (int j = i; j <= ntypes; j++) {
       const Coeffs &c = at(i, j);
       size_t g = 0;
-      while (g < members.size() &&
-             !(coeffs[members[g][0]].rolling == c.rolling && coeffs[members[g][0]].twist == c.twist))
-        g++;
+      auto same_laws = [&](const Coeffs &o) {
+        return o.rolling == c.rolling && o.twist == c.twist &&
+            granular::sliding_history(o.tangential) == granular::sliding_history(c.tangential);
+      };
+      while (g < members.size() && !same_laws(coeffs[members[g][0]])) g++;
       if (g == members.size()) {
         members.emplace_back();
         groups.emplace_back();
@@ -287,7 +289,7 @@ void PairGranularRollslide::build_groups()
       slot.material = (uint32_t) members[g].size();
       slots[i * n + j] = slots[j * n + i] = slot;
       members[g].push_back(i * n + j);
-      groups[g].kt = groups[g].kt || c.tangential == granular::MINDLIN;
+      groups[g].kt = groups[g].kt || granular::is_mindlin(c.tangential);
       groups[g].gammat = groups[g].gammat || c.damping != granular::VELOCITY;
     }
   for (size_t g = 0; g < groups.size(); g++) {
@@ -620,6 +622,7 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
           en.elastic_rolling += en.slider_rolling;
           en.elastic_twisting += en.slider_twisting;
           en.slider_sliding = en.slider_rolling = en.slider_twisting = en.transport = 0.0;
+          en.stiffness_change = 0.0;
         }
         tally(i, j, e, en, 0.0, nf.elastic);
       }

@@ -1,8 +1,9 @@
 // pair_style granular/rollslide [objective|lammps]
 //
 // LAMMPS' pair_style granular (20220106) for the subset: normal hooke | hertz | hertz/material,
-// damping velocity | mass_velocity | viscoelastic | tsuji, tangential linear_history | mindlin,
-// rolling sds, twisting sds | marshall, limit_damping, cutoff. The normal force is computed
+// damping velocity | mass_velocity | viscoelastic | tsuji, tangential linear_nohistory |
+// linear_history | mindlin | mindlin_rescale | mindlin/force | mindlin_rescale/force, rolling
+// sds, twisting sds | marshall, limit_damping, cutoff. The normal force is computed
 // here as LAMMPS computes it; the sliding, rolling and twisting loads come from rollslide:
 // `lammps` = RSL_PRESET_LAMMPS_2021 (LAMMPS' own definitions, step by step), `objective` (the
 // default) = the library's objective definitions with the same coefficients.
@@ -53,7 +54,8 @@ class PairGranularRollslide : public Pair {
   // coefficient sets (rsl_model_set_materials) steps contacts of several type pairs, each with
   // its own pair's set (its index in params.material), as long as the pairs' library laws
   // agree. So the type pairs are grouped by law set (rolling sds or none, twisting sds, marshall
-  // or none: the sliding law is linear for all, and the normal force is computed here), and a
+  // or none, and what the sliding spring stores, RSL_SLIDING_HISTORY_*: the sliding law is
+  // linear for all, and the normal force is computed here), and a
   // chunk holds the contacts of one group: with one law set for all type pairs, a chunk no
   // longer ends where the type pair changes along the neighbour list.
   struct Group {
@@ -61,9 +63,9 @@ class PairGranularRollslide : public Pair {
     // a larger group with a model of its own (`owned`) holding a table over its pairs.
     rsl_model *model = nullptr;
     bool owned = false;
-    // Some pair of the group has a per-contact k_t (mindlin) or gamma_t (every damping model
-    // but velocity): then every contact of the group passes one (its pair's constant for the
-    // others, the value of its set, so the step is the same).
+    // Some pair of the group has a per-contact k_t (the mindlin family) or gamma_t (every
+    // damping model but velocity): then every contact of the group passes one (its pair's
+    // constant for the others, the value of its set, so the step is the same).
     bool kt = false, gammat = false;
   };
   std::vector<Group> groups;
@@ -116,7 +118,7 @@ class PairGranularRollslide : public Pair {
     std::vector<uint32_t> pairs;            // direct: atom indices i, j per contact
     std::vector<rsl_sphere> body1, body2;   // paired: the two sphere records per contact
     std::vector<double> normal_force;
-    // Per-contact k_t (mindlin) and gamma_t (every damping model but velocity).
+    // Per-contact k_t (the mindlin family) and gamma_t (every damping model but velocity).
     std::vector<double> sliding_stiffness, sliding_damping;
     std::vector<uint32_t> material;         // each contact's index in its group's table
     std::vector<size_t> index;              // direct: each contact's entry in the history
