@@ -1059,8 +1059,10 @@ int32_t rsl_contact_state_init(struct rsl_contact_state *state);
 // `v_r = R_r (w1 - w2) x n`, where both factors change sign) and negated in the angle form
 // (`theta_r` integrates `(w1 - w2)_t`; YADE and LIGGGHTS presets: the moment on body 1);
 // `twisting_angle` kept (`(w1 - w2) . n` is unchanged; YADE preset: the moment on body 1 along
-// the previous normal, which flips too); `model_memory` negated; `previous_normal`
-// negated (the normal points from body 1 to body 2); `slip_flags` kept. Negating every
+// the previous normal, which flips too); `model_memory` negated with the YADE_2023 preset
+// (its off-axis twisting moment on body 1) and kept otherwise (the previous stiffnesses, which
+// belong to the contact); `previous_normal` negated (the normal points from body 1 to body 2);
+// `slip_flags` kept. Negating every
 // field, as LAMMPS 20220106 does to its history when a pair's order changes, reverses the
 // rolling and twisting springs of the length form: wrong.
 //
