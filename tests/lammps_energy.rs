@@ -4,7 +4,7 @@
 //! (each contact's dissipation rates in the last step). Scenes: `examples/lammps/inputs/in.energy`
 //! (in.packing's compressed periodic packing relaxing, and spheres falling under gravity onto a
 //! frozen floor and settling). Thermo columns there: step, kinetic, rotational, gravitational
-//! energy, pressure, then the compute's 37 values, then (pairlocal 1) compute pair/local's 7
+//! energy, pressure, then the compute's 39 values, then (pairlocal 1) compute pair/local's 7
 //! sums. Measured values are printed with `cargo test --test lammps_energy -- --nocapture`.
 //!
 //! Reported as ignored, with the reason, when LAMMPS, MPI, cmake or LAMMPS' source tarball is
@@ -30,6 +30,14 @@ fn main() {
             energy_budget_closes_for_every_tangential_model,
         ),
         trial(
+            "cohesive_normal_potentials_are_the_forces_integrals",
+            cohesive_normal_potentials_are_the_forces_integrals,
+        ),
+        trial(
+            "energy_budget_closes_for_the_cohesive_models",
+            energy_budget_closes_for_the_cohesive_models,
+        ),
+        trial(
             "ranks_newton_and_sorting_give_the_same_energies",
             ranks_newton_and_sorting_give_the_same_energies,
         ),
@@ -50,21 +58,24 @@ fn main() {
 
 // The compute's vector (docs/lammps.md), as thermo columns from V on.
 const V: usize = 5;
-const NCOLUMNS: usize = 20;
+const NCOLUMNS: usize = 22;
 const TRANSPORT: usize = 14;
 const TOTAL_DISSIPATED: usize = 19;
 const TOTAL_ELASTIC: usize = 20;
 const RATE: usize = 21;
 const RATE_FIRST: usize = 22;
 const STIFFNESS_CHANGE: usize = 36;
-const NVECTOR: usize = 37;
-/// The global vector's entry of a per-atom column: the first 19 in place, the stiffness change
-/// (column 20) last.
+const PAIR_NECK_BREAKING: usize = 37;
+const WALL_NECK_BREAKING: usize = 38;
+const NVECTOR: usize = 39;
+/// The global vector's entry of a per-atom column: the first 19 in place, then the stiffness
+/// change (column 20) and the neck breaking of pair and wall contacts (21, 22) at the end.
 fn vector_index(column: usize) -> usize {
-    if column == NCOLUMNS - 1 {
-        STIFFNESS_CHANGE
-    } else {
-        column
+    match column {
+        19 => STIFFNESS_CHANGE,
+        20 => PAIR_NECK_BREAKING,
+        21 => WALL_NECK_BREAKING,
+        c => c,
     }
 }
 const PAIR_RATES: [&str; 7] = [
@@ -369,7 +380,7 @@ fn vector_difference(a: &[f64], b: &[f64]) -> (f64, f64) {
 /// Ranks, newton and sorting: the packing moving as a whole at speed 20 along z through 2
 /// subdomains (as lammps_pair's MPI test: atoms change rank and cross the periodic boundary with
 /// live contacts), 600 steps; `-np 2` with newton on and off, one rank with atom sorting and
-/// two with sorting give the compute's 37 values of one rank without sorting to 1e-9 (each
+/// two with sorting give the compute's 39 values of one rank without sorting to 1e-9 (each
 /// value above 1e-6 of the total dissipated) and to 1e-11 of the total dissipated (every
 /// value), both presets with law A, and the `lammps` preset with law Q (mindlin_rescale/force,
 /// twisting marshall: the stiffness change column is not zero). Measured: 5e-12 and 5e-14. The runs add the same contacts' terms in
@@ -643,4 +654,190 @@ fn forces_are_unchanged_by_the_energy_compute(exe: &Path) {
             "law {law}, {preset}: forces and torques equal to the bit with and without the compute"
         );
     }
+}
+
+/// The budget for the cohesive normal models `jkr` and `dmt` (E 1e4, coh 2: JKR's pull-off force
+/// 3 pi coh R, about the weight of a sphere here), viscoelastic damping, mindlin NULL, rolling
+/// sds, twisting marshall, with the same coefficients on the rollslide walls: in.energy's `box`
+/// scene (as `energy_budget_closes_for_every_tangential_model`: 320 spheres falling into a box
+/// of walls, 0.6 time units, objective preset: a closed system of pair and wall contacts), dt
+/// 2e-4, 1e-4, 5e-5. The normal elastic column holds the normal force's potential: DMT's (2/5)
+/// K sqrt(R) delta^(5/2) - 4 pi coh R delta (zero where its contacts form and break, at delta =
+/// 0), JKR's U(a), the work of the force along the JKR curve from the touch (delta = 0); a JKR
+/// neck that breaks at pull-off loses the U(a) it held, in the neck-breaking columns (pair and
+/// wall). `dE_kin + dE_rot + dE_grav + dE_elastic + E_dissipated - E_transport -
+/// E_stiffness_change` over the energy dissipated falls at least 1.7 times at each halving of dt
+/// and is below 1e-2 at dt 1e-4 (first order: the force jumps where the contacts form, at
+/// JKR's snap-in to the attractive force at a0, and DMT's at delta = 0, and the integrator
+/// crosses the jump within a step). Control: JKR's necks broke (both columns > 0) and their
+/// energy is more than 3 times the residual at dt 1e-4 (left out, the budget would not close);
+/// DMT has no neck.
+fn energy_budget_closes_for_the_cohesive_models(exe: &Path) {
+    let dir = rundir("energy_budget_cohesive");
+    let dts = ["2e-4", "1e-4", "5e-5"];
+    let mut table = Vec::new();
+    for model in ["jkr", "dmt"] {
+        let coeffs = format!(
+            "{model} 1e4 0.3 0.3 2 damping viscoelastic tangential mindlin NULL 0.5 0.4 rolling sds 5e3 5 0.1 twisting marshall"
+        );
+        let mut residuals = Vec::new();
+        let mut necks = (0.0, 0.0);
+        for dt in dts {
+            let log = lammps(
+                exe,
+                &dir,
+                1,
+                "in.energy",
+                &[
+                    ("scene", "box"),
+                    ("preset", "objective"),
+                    ("law", "X"),
+                    ("coeffs", &coeffs),
+                    ("time", "0.6"),
+                    ("dt", dt),
+                ],
+            );
+            let rows = thermo(&log);
+            let (residual, dissipated, _) = budget_terms(&rows);
+            assert!(dissipated > 0.0, "{model}: nothing dissipated");
+            residuals.push(residual / dissipated);
+            if dt == "1e-4" {
+                let (a, b) = (vector(&rows[0]), vector(rows.last().unwrap()));
+                necks = (
+                    (b[PAIR_NECK_BREAKING] - a[PAIR_NECK_BREAKING]) / dissipated,
+                    (b[WALL_NECK_BREAKING] - a[WALL_NECK_BREAKING]) / dissipated,
+                );
+            }
+        }
+        let line = format!(
+            "{model:<4} {:>10.3e} {:>10.3e} {:>10.3e}   necks broken (pair, wall) / dissipated at dt 1e-4: {:.3e}, {:.3e}",
+            residuals[0], residuals[1], residuals[2], necks.0, necks.1
+        );
+        println!("{line}");
+        table.push(line);
+        let falls = residuals.windows(2).all(|w| w[1].abs() < w[0].abs() / 1.7);
+        assert!(
+            falls && residuals[1].abs() < 1e-2,
+            "{model}: the budget does not close (residuals {residuals:?})"
+        );
+        if model == "jkr" {
+            assert!(
+                necks.0 > 0.0 && necks.1 > 0.0 && necks.0 + necks.1 > 3.0 * residuals[1].abs(),
+                "jkr: the necks' energy ({necks:?}) is not exercised"
+            );
+        } else {
+            assert!(necks == (0.0, 0.0), "dmt: necks broke ({necks:?})");
+        }
+    }
+    println!(
+        "box, objective preset, 0.6 time units: residual / dissipated at dt {}",
+        dts.join(", ")
+    );
+    for line in &table {
+        println!("  {line}");
+    }
+}
+
+/// The normal elastic column's potentials of the cohesive models are their forces' integrals:
+/// examples/lammps/src/granular_model.h's `normal_force` (header-only, compiled here into a
+/// small program with the C++ compiler) for `jkr` and `dmt` (E 1e5, nu 0.3, coh 20, R 0.25, no
+/// damping) at overlaps from JKR's pull-off overlap (negative) to 0.05: the central difference
+/// of the potential U over delta (step 1e-6 of the range) equals the force to 1e-6 of the
+/// force scale 4/3 E* sqrt(R) 0.05^(3/2); U is 0 at the touch (delta = 0: JKR's a0, DMT's
+/// contact forming); JKR's contact radius a satisfies delta = a^2/R - 2 sqrt(pi coh a / E*) to
+/// 1e-12 of the range, on the stable branch (d delta / d a > 0).
+fn cohesive_normal_potentials_are_the_forces_integrals(_exe: &Path) {
+    let dir = rundir("cohesive_potentials");
+    let root = common::lammps::root();
+    let program = r#"
+#include "granular_model.h"
+#include <cstdio>
+using namespace LAMMPS_NS::granular;
+int main()
+{
+  for (int model = 0; model < 2; model++) {
+    Coeffs c;
+    c.normal = model == 0 ? JKR : DMT;
+    c.emod = 1e5;
+    c.poisson = 0.3;
+    c.coh = 20;
+    c.kn = 4.0 / 3.0 * (1e5 / (2 * (1 - 0.09)));
+    c.damp = 0.0;
+    c.damping = VISCOELASTIC;
+    c.tangential = LINEAR_HISTORY;
+    const double R = 0.25, estar = 0.75 * c.kn;
+    const double lo = model == 0 ? jkr_pulloff_overlap(estar, c.coh, R) : 1e-9, hi = 0.05;
+    const double h = 1e-6 * (hi - lo);
+    const double scale = c.kn * sqrt(R) * pow(hi, 1.5);
+    double worst = 0.0, relation = 0.0, branch = 1.0;
+    for (int k = 1; k < 200; k++) {
+      const double d = lo + (hi - lo) * k / 200.0;
+      const NormalForce f = normal_force(c, d, R, 1.0, 0.0);
+      const double up = normal_force(c, d + h, R, 1.0, 0.0).elastic;
+      const double down = normal_force(c, d - h, R, 1.0, 0.0).elastic;
+      const double e = fabs((up - down) / (2 * h) - f.force) / scale;
+      if (e > worst) worst = e;
+      if (model == 0) {
+        const double a = f.contact_radius;
+        const double r = fabs(a * a / R - 2 * sqrt(M_PI * c.coh * a / estar) - d) / (hi - lo);
+        if (r > relation) relation = r;
+        const double slope = 2 * a / R - sqrt(M_PI * c.coh / (estar * a));
+        if (slope < branch) branch = slope;
+      }
+    }
+    const double at_touch = normal_force(c, 0.0, R, 1.0, 0.0).elastic / (scale * hi);
+    printf("%s %.3e %.3e %.3e %.3e\n", model == 0 ? "jkr" : "dmt", worst, relation, branch, at_touch);
+  }
+  return 0;
+}
+"#;
+    let src = dir.join("potentials.cpp");
+    std::fs::write(&src, program).unwrap();
+    let exe_path = dir.join("potentials");
+    let status = std::process::Command::new("c++")
+        .args(["-std=c++17", "-O1", "-o"])
+        .arg(&exe_path)
+        .arg(&src)
+        .arg("-I")
+        .arg(root.join("include"))
+        .arg("-I")
+        .arg(root.join("examples/lammps/src"))
+        .status()
+        .expect("c++");
+    assert!(status.success(), "compiling the potentials check failed");
+    let out = std::process::Command::new(&exe_path).output().unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    for line in text.lines() {
+        let v: Vec<&str> = line.split_whitespace().collect();
+        let num = |k: usize| v[k].parse::<f64>().unwrap();
+        println!(
+            "{}: |dU/d delta - F| / force scale worst {:.2e}; JKR relation residual {:.2e}, smallest d delta / d a {:.3e}; U at the touch {:.2e}",
+            v[0],
+            num(1),
+            num(2),
+            num(3),
+            num(4)
+        );
+        assert!(
+            num(1) < 1e-6,
+            "{}: dU/d delta differs from F by {:.2e}",
+            v[0],
+            num(1)
+        );
+        assert!(
+            num(4).abs() < 1e-12,
+            "{}: U at the touch {:.2e}",
+            v[0],
+            num(4)
+        );
+        if v[0] == "jkr" {
+            assert!(
+                num(2) < 1e-12,
+                "jkr: the relation's residual {:.2e}",
+                num(2)
+            );
+            assert!(num(3) > 0.0, "jkr: a on the unstable branch");
+        }
+    }
+    assert_eq!(text.lines().count(), 2, "output: {text}");
 }

@@ -54,6 +54,10 @@ fn main() {
             wall_contacts_are_tallied_in_the_energy_budget,
         ),
         trial(
+            "cohesive_walls_match_stock_across_ranks_and_restart",
+            cohesive_walls_match_stock_across_ranks_and_restart,
+        ),
+        trial(
             "bad_wall_arguments_are_lammps_errors",
             bad_wall_arguments_are_lammps_errors,
         ),
@@ -611,10 +615,31 @@ fn bad_wall_arguments_are_lammps_errors(exe: &Path) {
         (1, g("cutoff 1.0 zplane 0.0 NULL"), "zplane", "0", "keyword 'cutoff' is not supported"),
         (
             1,
-            "granular jkr 1e4 0 0.3 1 tangential linear_history 1e4 0 0.5 zplane 0.0 NULL".into(),
+            "granular hertz/fancy 1e4 0 0.3 1 tangential linear_history 1e4 0 0.5 zplane 0.0 NULL".into(),
             "zplane",
             "0",
-            "keyword 'jkr' is not supported",
+            "keyword 'hertz/fancy' is not supported",
+        ),
+        (
+            1,
+            "granular jkr 1e5 0 0.3 tangential linear_history 1e4 0 0.5 zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "'jkr' needs E, eta_n, nu and coh (got 'tangential' for coh)",
+        ),
+        (
+            1,
+            "granular jkr 1e5 0 0.3 1 tangential linear_history 1e4 0 0.5 limit_damping zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "limit_damping cannot be used with the jkr normal model",
+        ),
+        (
+            1,
+            "granular dmt 1e5 0 0.3 1 tangential linear_history 1e4 0 0.5 limit_damping zplane 0.0 NULL".into(),
+            "zplane",
+            "0",
+            "limit_damping cannot be used with the dmt normal model",
         ),
         (
             1,
@@ -698,4 +723,164 @@ fn bad_wall_arguments_are_lammps_errors(exe: &Path) {
         println!("{error}");
         assert!(error.contains(want), "expected '{want}' in: {error}");
     }
+}
+
+/// The JKR necks of an in.wall_gran floor run (zplane 0.0 NULL, gravity 10, density 1; atom k's
+/// diameter 0.8 + 0.4 frac(0.618... k)): the atom-steps with the atom apart from the floor
+/// (z > its radius) and a wall force on it (its force is not its weight alone), and the atoms.
+fn wall_necks(dump: &Dump) -> (usize, usize) {
+    let mut steps = 0;
+    let mut atoms = std::collections::BTreeSet::new();
+    for rows in dump.values() {
+        for r in rows {
+            let id = r[0];
+            let u = (id * 0.6180339887498949).fract();
+            let radius = 0.5 * (0.8 + 0.4 * u);
+            let weight = 10.0 * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+            if r[9] > radius && (r[3] + weight).abs() > 1e-9 * weight {
+                steps += 1;
+                atoms.insert(id as u64);
+            }
+        }
+    }
+    (steps, atoms.len())
+}
+
+/// The cohesive normal models on a wall: stock `fix wall/gran granular` against `fix
+/// wall/gran/rollslide ... preset lammps`, one rank, in.wall_gran's floor (`zplane 0.0 NULL`,
+/// 36 spheres landing, bouncing and leaving), 1000 steps, per-atom forces and torques at every
+/// step to 1e-10 relative: JKR (law W: mindlin NULL, X: linear_history; viscoelastic damping,
+/// rolling sds, twisting marshall; coh 1), whose contacts hold beyond touching until the
+/// pull-off distance of stock's wall (computed from the atom's radius as a = (9 pi coh R /
+/// (4 E))^(1/3), its formula) with a per-atom touch flag, the contact radius JKR's a (Mindlin,
+/// Marshall) and the limits LAMMPS' |F_ne + 2 F_pulloff| (per contact: these contacts step one
+/// at a time); necks beyond touching counted from the dump (atoms above the floor with a wall
+/// force), asserted > 0. DMT (law V: linear_nohistory with mu_s 1e3, no rolling or twisting:
+/// stock's wall, as its pair style, limits DMT's friction with an uninitialised cohesion).
+/// Control: stock with coh 0 differs by more than 1e-3 of the median load somewhere in the run.
+/// Law W on the cylinder too (stock's cylinder holds no neck beyond touching). Then law W across
+/// ranks (np 2, newton on, sorting every 10 steps, against one rank) and
+/// through a restart at step 500 (against the two runs in one process), loads at step 1000 to
+/// 1e-12 of the median load: the touch flag (the atom's wall side) moves with the atom and into
+/// the restart file.
+fn cohesive_walls_match_stock_across_ranks_and_restart(exe: &Path) {
+    let dir = rundir("walls_cohesive");
+    for (law, what, cmu) in [
+        ("W", "jkr, mindlin, rolling sds, marshall", "0.4"),
+        ("X", "jkr, linear_history, rolling sds, marshall", "0.4"),
+        ("V", "dmt, linear_nohistory mu_s 1e3", "1e3"),
+    ] {
+        let vars = [
+            ("wall", "zplane"),
+            ("law", law),
+            ("coh", "1"),
+            ("cmu", cmu),
+            ("steps", "1000"),
+            ("dumpevery", "1"),
+        ];
+        let (stock, ours) = stock_and_lammps_preset(exe, &dir, &format!("cohesive_{law}"), &vars);
+        let (f, t) = worst_relative(&stock, &ours);
+        let mut control_vars = vars.to_vec();
+        control_vars[2] = ("coh", "0");
+        control_vars.push(("fix", "wall/gran"));
+        let control = run(
+            exe,
+            &dir,
+            1,
+            &format!("stock_coh0_{law}.dump"),
+            &control_vars,
+        );
+        let control_worst = stock
+            .iter()
+            .map(|(step, rows)| {
+                let (cf, ct) = compare(rows, &control[step]);
+                cf.over_median.max(ct.over_median)
+            })
+            .fold(0.0f64, f64::max);
+        let (neck_steps, neck_atoms) = wall_necks(&ours);
+        println!(
+            "law {law} ({what}), coh 1: steps 0-1000, worst per-atom relative difference force {f:.2e}, torque {t:.2e}; control coh 0: {control_worst:.2e} of the median load; necks beyond touching: {neck_atoms} atoms, {neck_steps} atom-steps"
+        );
+        assert!(
+            f < 1e-10 && t < 1e-10,
+            "law {law}: wall/gran/rollslide preset lammps differs from stock (force {f:.2e}, torque {t:.2e})"
+        );
+        assert!(
+            control_worst > 1e-3,
+            "law {law}: the cohesion changed nothing"
+        );
+        if law != "V" {
+            assert!(neck_steps > 0, "law {law}: no neck beyond touching");
+        }
+    }
+    // The cylinder (stock's finds no contact beyond touching; its pull-off distance, negative
+    // for the larger spheres, delays their contacts).
+    let (stock, ours) = stock_and_lammps_preset(
+        exe,
+        &dir,
+        "cohesive_W_zcylinder",
+        &[
+            ("wall", "zcylinder"),
+            ("law", "W"),
+            ("coh", "1"),
+            ("steps", "1000"),
+            ("dumpevery", "1"),
+        ],
+    );
+    let (f, t) = worst_relative(&stock, &ours);
+    println!("law W on the cylinder, coh 1: steps 0-1000, worst per-atom relative difference force {f:.2e}, torque {t:.2e}");
+    assert!(
+        f < 1e-10 && t < 1e-10,
+        "law W on the cylinder: wall/gran/rollslide preset lammps differs from stock (force {f:.2e}, torque {t:.2e})"
+    );
+    let base = [
+        ("wall", "zplane"),
+        ("law", "W"),
+        ("coh", "1"),
+        ("preset", "lammps"),
+        ("vbulk", "10"),
+        ("steps", "1000"),
+    ];
+    let go = |np: usize, name: &str, extra: &[(&str, &str)]| {
+        let mut vars = base.to_vec();
+        vars.extend_from_slice(extra);
+        run(exe, &dir, np, &format!("{name}_W.dump"), &vars)
+    };
+    let one = go(1, "np1", &[("dumpevery", "1000")]);
+    let two = go(
+        2,
+        "np2",
+        &[("dumpevery", "1000"), ("newton", "on"), ("sort", "10")],
+    );
+    let (neck_steps, _) = wall_necks(&go(1, "np1_every", &[("dumpevery", "1")]));
+    println!("law W, vbulk 10: necks beyond touching over the run: {neck_steps} atom-steps");
+    assert!(neck_steps > 0, "law W, vbulk 10: no neck beyond touching");
+    assert_loads_agree(
+        &one[&1000],
+        &two[&1000],
+        1e-12,
+        "law W (jkr): np 2 newton on sort 10 vs np 1, step 1000",
+    );
+    let mpi = [("newton", "on"), ("sort", "10"), ("dumpevery", "500")];
+    let mut split = mpi.to_vec();
+    split.push(("split", "500"));
+    let reference = go(2, "two_runs", &split);
+    let mut first = mpi.to_vec();
+    first.extend([
+        ("restart_at", "500"),
+        ("restart_file", "cohesive_W.restart"),
+    ]);
+    go(2, "first", &first);
+    let mut resumed_vars = mpi.to_vec();
+    resumed_vars.extend([
+        ("from_restart", "1"),
+        ("restart_file", "cohesive_W.restart"),
+    ]);
+    let resumed = go(2, "resumed", &resumed_vars);
+    assert_loads_agree(
+        &reference[&1000],
+        &resumed[&1000],
+        1e-12,
+        "law W (jkr): restarted at 500 vs two runs in one process, step 1000",
+    );
 }

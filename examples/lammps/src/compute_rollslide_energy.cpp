@@ -39,12 +39,14 @@ constexpr int NDISSIPATION = ComputeRollslideEnergy::WALL_TWISTING_FRICTION + 1;
 constexpr int NCOLUMNS = ComputeRollslideEnergy::NCOLUMNS;
 constexpr int NSLOTS = ComputeRollslideEnergy::NSLOTS;
 // The slots sent with an atom and written to restart files: all of them (the stiffness change
-// last; restart files written before it have the 15 before it, and are read as such).
+// and the neck breaking last; restart files written before them have the 15 or 16 before
+// them, and are read as such, the later slots starting from zero).
 constexpr int NSTORED = ComputeRollslideEnergy::NCUMULATIVE;
-constexpr int NSTORED_BEFORE_STIFFNESS = NSTORED - 1;
 static_assert(ComputeRollslideEnergy::slot(ComputeRollslideEnergy::TRANSPORT) == 7 &&
-                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::WALL_TWISTING_FRICTION) == NSTORED - 2 &&
-                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::STIFFNESS_CHANGE) == NSTORED - 1 &&
+                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::WALL_TWISTING_FRICTION) == 14 &&
+                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::STIFFNESS_CHANGE) == 15 &&
+                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::PAIR_NECK_BREAKING) == 16 &&
+                  ComputeRollslideEnergy::slot(ComputeRollslideEnergy::WALL_NECK_BREAKING) == 17 &&
                   NSTORED == NSLOTS,
               "slot layout");
 constexpr int NELASTIC = ComputeRollslideEnergy::NELASTIC;
@@ -120,9 +122,10 @@ class ComputeRollslideEnergy::Store : public Fix {
     double *extra = atom->extra[nlocal];
     int m = 0;
     for (int k = 0; k < nth; k++) m += static_cast<int>(extra[m]);
-    // A restart file written before the stiffness change column has the slots before it only:
-    // that column starts from zero.
-    const int n = static_cast<int>(extra[m]) - 1 >= NSTORED ? NSTORED : NSTORED_BEFORE_STIFFNESS;
+    // A restart file written before the stiffness change or the neck breaking columns has the
+    // slots before them only: those start from zero.
+    const int stored = static_cast<int>(extra[m]) - 1;
+    const int n = stored < NSTORED ? stored : NSTORED;
     memset(values[nlocal], 0, NSTORED * sizeof(double));
     memcpy(values[nlocal], &extra[m + 1], n * sizeof(double));
   }
@@ -212,7 +215,7 @@ void ComputeRollslideEnergy::compute_vector()
 {
   invoked_vector = update->ntimestep;
   // This rank's column sums, then its last pass's dissipation; summed over the ranks at once.
-  double local[NCOLUMNS + NDISSIPATION], all[NCOLUMNS + NDISSIPATION];
+  double local[NCOLUMNS + NDISSIPATION + 2], all[NCOLUMNS + NDISSIPATION + 2];
   memset(local, 0, sizeof local);
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++)
@@ -223,7 +226,9 @@ void ComputeRollslideEnergy::compute_vector()
     for (int i = 0; i < nlocal; i++)
       for (int c = 0; c < NELASTIC; c++) local[ELASTIC_NORMAL + c] += elastic[NELASTIC * i + c];
   for (int c = 0; c < NDISSIPATION; c++) local[NCOLUMNS + c] = pass[slot(c)];
-  MPI_Allreduce(local, all, NCOLUMNS + NDISSIPATION, MPI_DOUBLE, MPI_SUM, world);
+  local[NCOLUMNS + NDISSIPATION] = pass[PAIR_NECK_SLOT];
+  local[NCOLUMNS + NDISSIPATION + 1] = pass[WALL_NECK_SLOT];
+  MPI_Allreduce(local, all, NCOLUMNS + NDISSIPATION + 2, MPI_DOUBLE, MPI_SUM, world);
 
   for (int c = 0; c < NCOLUMNS; c++) values[vector_index(c)] = all[c];
   double dissipated = 0.0, rate = 0.0;
@@ -232,6 +237,9 @@ void ComputeRollslideEnergy::compute_vector()
     values[RATE_FIRST + c] = all[NCOLUMNS + c] / pass_dt;
     rate += values[RATE_FIRST + c];
   }
+  // The necks broken (and in the last pass: the rate).
+  dissipated += all[PAIR_NECK_BREAKING] + all[WALL_NECK_BREAKING];
+  rate += (all[NCOLUMNS + NDISSIPATION] + all[NCOLUMNS + NDISSIPATION + 1]) / pass_dt;
   values[TOTAL_DISSIPATED] = dissipated;
   values[TOTAL_ELASTIC] = all[ELASTIC_NORMAL] + all[ELASTIC_SLIDING] + all[ELASTIC_ROLLING] + all[ELASTIC_TWISTING];
   values[RATE] = rate;

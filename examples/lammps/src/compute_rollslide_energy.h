@@ -3,7 +3,8 @@
 // Where the energy of the rollslide contacts goes, by mechanism: what the contacts of
 // pair_style granular/rollslide and of fix wall/gran/rollslide dissipated since the compute was
 // defined (carried through restart files), the elastic energy their springs hold now, and
-// what the springs' transport and their changes of stiffness added to it.
+// what the springs' transport and their changes of stiffness added to it; the energy JKR necks
+// lost when they broke.
 //
 // The producers (the pair style and every rollslide wall fix) find this compute in their init
 // (the first compute of this style), make their library models track energy, and report every
@@ -26,8 +27,8 @@ class ComputeRollslideEnergy : public Compute {
 
   // The columns of the per-atom array, in this order (energy units); the global vector holds
   // their sums over all atoms (`vector_index`): the columns before STIFFNESS_CHANGE, then the
-  // extra entries (Extra), then STIFFNESS_CHANGE's (appended last in both, so that the older
-  // columns kept their numbers).
+  // extra entries (Extra), then STIFFNESS_CHANGE's and the neck-breaking columns' (appended last
+  // in both, so that the older columns kept their numbers).
   enum Column {
     // Dissipated since the compute was defined, by contacts between two particles.
     PAIR_NORMAL_DAMPING,
@@ -58,6 +59,11 @@ class ComputeRollslideEnergy : public Compute {
     // stiffness follow the contact radius), summed since the compute was defined, pair and
     // wall contacts. A closed system's budget subtracts it as it does TRANSPORT.
     STIFFNESS_CHANGE,
+    // Dissipated since the compute was defined by JKR necks breaking at pull-off: the normal
+    // force's potential a neck held when it broke (U(a) of its last step, counted from the
+    // touch), by contacts between two particles, and by contacts with a rollslide wall.
+    PAIR_NECK_BREAKING,
+    WALL_NECK_BREAKING,
     NCOLUMNS
   };
 
@@ -121,6 +127,29 @@ class ComputeRollslideEnergy : public Compute {
     e[3] += share * energy.elastic_twisting;
   }
 
+  // A JKR neck between atom i and atom j broke, losing the energy `neck` (its normal force's
+  // potential): half to i, half to j if local (the pair style; a ghost j's owner tallies its
+  // half), in PAIR_NECK_BREAKING.
+  void tally_neck_pair(int i, int j, int nlocal, double neck)
+  {
+    const int *mask = atom->mask;
+    if (mask[i] & groupbit) {
+      cumulative[i][PAIR_NECK_SLOT] += 0.5 * neck;
+      pass[PAIR_NECK_SLOT] += 0.5 * neck;
+    }
+    if (j < nlocal && (mask[j] & groupbit)) {
+      cumulative[j][PAIR_NECK_SLOT] += 0.5 * neck;
+      pass[PAIR_NECK_SLOT] += 0.5 * neck;
+    }
+  }
+  // Atom i's JKR neck with a wall broke, losing `neck`: WALL_NECK_BREAKING.
+  void tally_neck_wall(int i, double neck)
+  {
+    if (!(atom->mask[i] & groupbit)) return;
+    cumulative[i][WALL_NECK_SLOT] += neck;
+    pass[WALL_NECK_SLOT] += neck;
+  }
+
   // tally(i, 1/2, false, ...) and, if j < nlocal, tally(j, 1/2, false, ...) in one call (the
   // pair style's: it keeps the contact's terms in registers once for both atoms and adds this
   // pass's totals once).
@@ -155,27 +184,33 @@ class ComputeRollslideEnergy : public Compute {
   }
 
   // The global vector: the sums of the columns before STIFFNESS_CHANGE, then these entries
-  // (energy, energy/time), then the sum of STIFFNESS_CHANGE.
+  // (energy, energy/time), then the sums of STIFFNESS_CHANGE, PAIR_NECK_BREAKING and
+  // WALL_NECK_BREAKING (appended in that order, so that the older entries kept their numbers).
   enum Extra {
-    TOTAL_DISSIPATED = STIFFNESS_CHANGE,    // the 14 dissipation columns summed
+    TOTAL_DISSIPATED = STIFFNESS_CHANGE,    // the 16 dissipation columns summed (necks included)
     TOTAL_ELASTIC,                          // the 4 elastic columns summed
     RATE,                                   // total dissipation rate of the last contact pass
-    RATE_FIRST,    // then each dissipation column's rate, in column order
+    RATE_FIRST,    // then each of the 14 first dissipation columns' rate, in column order
     STIFFNESS_CHANGE_SUM = RATE_FIRST + WALL_TWISTING_FRICTION + 1,
+    PAIR_NECK_BREAKING_SUM,
+    WALL_NECK_BREAKING_SUM,
     NVECTOR
   };
   // A column's entry in the global vector.
   static constexpr int vector_index(int column)
   {
-    return column == STIFFNESS_CHANGE ? STIFFNESS_CHANGE_SUM : column;
+    return column == STIFFNESS_CHANGE     ? STIFFNESS_CHANGE_SUM
+        : column == PAIR_NECK_BREAKING    ? PAIR_NECK_BREAKING_SUM
+        : column == WALL_NECK_BREAKING    ? WALL_NECK_BREAKING_SUM
+                                          : column;
   }
-  // The cumulative columns (dissipation, transport, stiffness change), kept by the store, and
-  // the elastic ones, kept by the compute for the current pass.
+  // The cumulative columns (dissipation, transport, stiffness change, neck breaking), kept by
+  // the store, and the elastic ones, kept by the compute for the current pass.
   static constexpr bool cumulative_column(int column)
   {
-    return column <= TRANSPORT || column == STIFFNESS_CHANGE;
+    return column <= TRANSPORT || column >= STIFFNESS_CHANGE;
   }
-  static constexpr int NCUMULATIVE = TRANSPORT + 2;
+  static constexpr int NCUMULATIVE = TRANSPORT + 4;
   static constexpr int NELASTIC = ELASTIC_TWISTING + 1 - ELASTIC_NORMAL;
   // The store's row of an atom holds the cumulative columns in slots: the 8 a contact between
   // particles adds to (its 7 dissipation columns, then TRANSPORT) first, in one 64-byte cache
@@ -183,13 +218,16 @@ class ComputeRollslideEnergy : public Compute {
   // twisting change).
   static constexpr int TRANSPORT_SLOT = PAIR_TWISTING_FRICTION + 1, WALL_SLOT = TRANSPORT_SLOT + 1;
   static constexpr int STIFFNESS_SLOT = WALL_SLOT + 7;
-  static constexpr int NSLOTS = 16;
+  static constexpr int PAIR_NECK_SLOT = STIFFNESS_SLOT + 1, WALL_NECK_SLOT = STIFFNESS_SLOT + 2;
+  static constexpr int NSLOTS = 18;
   static constexpr int slot(int column)
   {
-    return column < WALL_NORMAL_DAMPING ? column
-        : column < TRANSPORT            ? column + 1
-        : column == TRANSPORT           ? TRANSPORT_SLOT
-                                        : STIFFNESS_SLOT;
+    return column < WALL_NORMAL_DAMPING   ? column
+        : column < TRANSPORT              ? column + 1
+        : column == TRANSPORT             ? TRANSPORT_SLOT
+        : column == STIFFNESS_CHANGE      ? STIFFNESS_SLOT
+        : column == PAIR_NECK_BREAKING    ? PAIR_NECK_SLOT
+                                          : WALL_NECK_SLOT;
   }
 
   // The fix holding the cumulative per-atom columns (internal; created and deleted by the

@@ -103,7 +103,7 @@ void FixRollslideHistory::to_atoms()
   const int nlocal = atom->nlocal;
   tagint *tag = atom->tag;
   int *type = atom->type;
-  const bool energy = !state.empty() && elastic.size() == 3 * state.size();
+  const bool energy = !state.empty() && elastic.size() == ENERGIES * state.size();
   for (int i = 0; i < nlocal; i++) {
     partners[i].clear();
     partner_elastic[i].clear();
@@ -117,9 +117,9 @@ void FixRollslideHistory::to_atoms()
       if (!touch[e]) continue;
       const int j = jlist[jj] & NEIGHMASK;
       partners[i].push_back({tag[j], state[e]});
-      std::array<double, 3> energies{};
+      std::array<double, ENERGIES> energies{};
       if (energy) {
-        energies = {elastic[3 * e], elastic[3 * e + 1], elastic[3 * e + 2]};
+        for (int c = 0; c < ENERGIES; c++) energies[c] = elastic[ENERGIES * e + c];
         partner_elastic[i].push_back(energies);
       }
       if (j < nlocal) {
@@ -154,7 +154,7 @@ void FixRollslideHistory::build_entries()
   memset(&fresh, 0, sizeof fresh);
   std::fill(state.begin(), state.end(), fresh);
   const bool energy = pair->tracks_energy();
-  elastic.assign(energy ? 3 * total : 0, 0.0);
+  elastic.assign(energy ? ENERGIES * total : 0, 0.0);
   for (int ii = 0; ii < inum; ii++) {
     const int i = list->ilist[ii];
     const std::vector<Partner> &mine = partners[i];
@@ -169,7 +169,7 @@ void FixRollslideHistory::build_entries()
           state[e] = mine[k].state;
           touch[e] = 1;
           if (energies)
-            for (int c = 0; c < 3; c++) elastic[3 * e + c] = partner_elastic[i][k][c];
+            for (int c = 0; c < ENERGIES; c++) elastic[ENERGIES * e + c] = partner_elastic[i][k][c];
           break;
         }
     }
@@ -250,7 +250,7 @@ void FixRollslideHistory::set_arrays(int i)
   partner_elastic[i].clear();
 }
 
-// Atom i's partners as records of record_doubles(i) doubles (pack_partner's, then the 3
+// Atom i's partners as records of record_doubles(i) doubles (pack_partner's, then the
 // energies if it has them); returns the doubles written.
 int FixRollslideHistory::pack_partners(int i, double *buf) const
 {
@@ -271,13 +271,14 @@ int FixRollslideHistory::unpack_partners(int i, const double *buf, int n, int pe
 {
   partners[i].resize(n);
   partner_elastic[i].clear();
-  const bool energies = per == PARTNER_DOUBLES + ENERGY_DOUBLES;
-  if (energies) partner_elastic[i].resize(n);
+  const int nenergies = per - PARTNER_DOUBLES;    // ENERGY_DOUBLES, OLD_ENERGY_DOUBLES or 0
+  const bool energies = nenergies > 0;
+  if (energies) partner_elastic[i].assign(n, std::array<double, ENERGIES>{});
   int m = 0;
   for (int k = 0; k < n; k++) {
     unpack_partner(&buf[m], partners[i][k]);
     if (energies)
-      for (int c = 0; c < ENERGY_DOUBLES; c++) partner_elastic[i][k][c] = buf[m + PARTNER_DOUBLES + c];
+      for (int c = 0; c < nenergies; c++) partner_elastic[i][k][c] = buf[m + PARTNER_DOUBLES + c];
     m += per;
   }
   // This rank may send the atom on before its next pre_exchange: Comm sizes its buffers from
@@ -318,7 +319,8 @@ void FixRollslideHistory::unpack_restart(int nlocal, int nth)
   const int length = static_cast<int>(extra[nlocal][m]);
   const int n = static_cast<int>(extra[nlocal][m + 1]);
   const int per = n > 0 ? (length - 2) / n : PARTNER_DOUBLES;
-  if (n > 0 && (length - 2 != per * n || (per != PARTNER_DOUBLES && per != PARTNER_DOUBLES + ENERGY_DOUBLES)))
+  if (n > 0 && (length - 2 != per * n || (per != PARTNER_DOUBLES && per != PARTNER_DOUBLES + ENERGY_DOUBLES &&
+                              per != PARTNER_DOUBLES + OLD_ENERGY_DOUBLES)))
     error->one(FLERR, std::string("fix rollslide/history: unknown restart record (") +
                           std::to_string(length) + " values for " + std::to_string(n) + " contacts)");
   unpack_partners(nlocal, &extra[nlocal][m + 2], n, per);

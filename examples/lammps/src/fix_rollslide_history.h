@@ -48,9 +48,12 @@ class FixRollslideHistory : public Fix {
   std::vector<unsigned char> touch;
   std::vector<rsl_contact_state> state;
   // Per entry, only while the pair style tracks energy (else empty): the elastic energy of the
-  // contact's sliding, rolling and twisting springs after its last step, 3 per entry. The pair
-  // style counts it as dissipated by the sliders when the contact ends and its history is
-  // dropped; it moves with the history (per atom, exchange, restart files) for that.
+  // contact's sliding, rolling and twisting springs after its last step, and its normal force's
+  // potential (JKR's neck energy), ENERGIES per entry. The pair style counts the springs' as
+  // dissipated by the sliders when the contact ends and its history is dropped (and a JKR
+  // neck's as lost in the neck's breaking); it moves with the history (per atom, exchange,
+  // restart files) for that.
+  static constexpr int ENERGIES = 4;
   std::vector<double> elastic;
   // Makes the per-entry arrays current (from the per-atom lists if they are the current copy).
   void ensure_entries()
@@ -66,15 +69,17 @@ class FixRollslideHistory : public Fix {
     rsl_contact_state state;    // this atom as body 1, the partner as body 2
   };
   // Packed as doubles: the tag, the 13 doubles of the state, its slip flags as a number (the
-  // integer fields are converted, never sent as raw bits); with energies, their 3 after them.
+  // integer fields are converted, never sent as raw bits); with energies, their 4 after them
+  // (restart files written before the normal one have 3: read with the normal one 0).
   static constexpr int PARTNER_DOUBLES = 15;
-  static constexpr int ENERGY_DOUBLES = 3;
+  static constexpr int ENERGY_DOUBLES = ENERGIES;
+  static constexpr int OLD_ENERGY_DOUBLES = 3;
   static void pack_partner(const Partner &, double *);
   static void unpack_partner(const double *, Partner &);
   std::vector<std::vector<Partner>> partners;    // per local atom, valid while !live
-  // Per local atom: empty, or the 3 energies of `elastic` for each of its partners (same order),
+  // Per local atom: empty, or the energies of `elastic` for each of its partners (same order),
   // written when the entries had them (energy tracking).
-  std::vector<std::vector<std::array<double, 3>>> partner_elastic;
+  std::vector<std::vector<std::array<double, ENERGIES>>> partner_elastic;
   // The doubles per partner of atom i's packed records.
   int record_doubles(int i) const
   {

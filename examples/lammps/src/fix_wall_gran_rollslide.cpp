@@ -100,11 +100,13 @@ FixWallGranRollslide::FixWallGranRollslide(LAMMPS *lmp, int narg, char **arg) : 
     int normal_at = -1, tangential_at = -1;
     for (int k = first; k < last; k++) {
       if (strcmp(arg[k], "hooke") == 0 || strcmp(arg[k], "hertz") == 0 ||
-          strcmp(arg[k], "hertz/material") == 0)
+          strcmp(arg[k], "hertz/material") == 0 || strcmp(arg[k], "dmt") == 0 ||
+          strcmp(arg[k], "jkr") == 0)
         normal_at = k;
       if (strcmp(arg[k], "tangential") == 0) tangential_at = k;
     }
-    if (coeffs.normal == granular::HERTZ_MATERIAL)
+    if (coeffs.normal == granular::HERTZ_MATERIAL || coeffs.normal == granular::DMT ||
+        coeffs.normal == granular::JKR)
       coeffs.kn = coeffs.emod / (2 * (1 - coeffs.poisson)) * stock_four_thirds;
     // (The last tangential keyword is the model parse() kept: any of the mindlin family takes
     // NULL, and parse() read its three parameters.)
@@ -367,7 +369,21 @@ void FixWallGranRollslide::post_force(int vflag)
       rsq = dk * dk;
       wall_side = low ? LO : HI;
     }
-    if (wall_side == NO_WALL || rsq > rad * rad) {
+    // JKR: a contact that touched (side[i] set: stock's per-atom touch flag) holds until the
+    // atom's centre is farther than rad + stock's pull-off distance, which stock's wall
+    // computes from the atom's radius as a = (9 pi coh R / (4 E))^(1/3) (R, not pair granular's
+    // R^2; its sign varies: negative, a contact forms only once the overlap exceeds it) and
+    // delta = a^2/R - 2 sqrt(pi coh a / E). Stock's cylinder finds no contact beyond touching
+    // (it measures no distance there), so there a positive one is not used.
+    double reach = rad;
+    if (coeffs.normal == granular::JKR) {
+      const double estar = 0.75 * coeffs.kn;
+      const double a = cbrt(9 * PI * coeffs.coh * rad / (4 * estar));
+      const double pulloff = a * a / rad - 2 * sqrt(PI * coeffs.coh * a / estar);
+      reach = rad + (wallstyle == ZCYLINDER ? fmin(pulloff, 0.0) : pulloff);
+    }
+    if (wall_side == NO_WALL || rsq > reach * reach ||
+        (side[i] == NO_WALL && rsq > rad * rad)) {
       // Not touching: the contact (if any) ends and its history is dropped, as stock does.
       if (side[i] != NO_WALL) end_contact(i);
       continue;
@@ -413,7 +429,8 @@ void FixWallGranRollslide::post_force(int vflag)
 
     // The steps that tally the virial, the setup pass and the cylinder go one contact at a
     // time; the others are gathered into chunks, each stepped by one batch call.
-    if (batched) {
+    // (Cohesive contacts too: their limit force is per contact, which the batch call lacks.)
+    if (batched && !nf.cohesive) {
       if (chunk.size() == CHUNK || (chunk.size() > 0 && !chunk.same_coefficients(nf)))
         flush_chunk(dt);
       chunk.add(i, s, w, nf, energy ? granular::normal_dissipation(nf, vnnr, dt) : 0.0);
@@ -425,9 +442,13 @@ void FixWallGranRollslide::post_force(int vflag)
     in.normal_force = nf.force;
     in.dt = dt;
     // Marshall's contact radius with stock's effective radius (the cylinder's curvature
-    // included; the library's own would be the flat wall's sqrt(delta R)).
-    in.contact_radius = sqrt(delta * reff);
+    // included; the library's own would be the flat wall's sqrt(delta R)), JKR's a for jkr.
+    in.contact_radius = nf.contact_radius;    // sqrt(delta reff); JKR's a for jkr
     if (setup_pass) in.flags |= RSL_INPUT_SETUP;
+    if (nf.cohesive) {
+      in.flags |= RSL_INPUT_LIMIT_FORCE;
+      in.limit_force = nf.limit_force;
+    }
     if (nf.per_contact_damping) {
       in.flags |= RSL_INPUT_SLIDING_DAMPING;
       in.sliding_damping = nf.sliding_damping;
@@ -488,9 +509,10 @@ void FixWallGranRollslide::post_force(int vflag)
         }
       }
       energy->tally(i, 1.0, true, e, normal_dissipated, nf.elastic);
-      spring_energy[3 * i] = e.elastic_sliding;
-      spring_energy[3 * i + 1] = e.elastic_rolling;
-      spring_energy[3 * i + 2] = e.elastic_twisting;
+      spring_energy[4 * i] = e.elastic_sliding;
+      spring_energy[4 * i + 1] = e.elastic_rolling;
+      spring_energy[4 * i + 2] = e.elastic_twisting;
+      spring_energy[4 * i + 3] = nf.elastic;
     }
   }
   if (chunk.size() > 0) flush_chunk(dt);
@@ -582,9 +604,10 @@ void FixWallGranRollslide::flush_chunk(double dt)
     if (energy) {
       const rsl_contact_energy &e = chunk_energy[c];
       energy->tally(i, 1.0, true, e, chunk.normal_dissipated[c], chunk.normal_elastic[c]);
-      spring_energy[3 * i] = e.elastic_sliding;
-      spring_energy[3 * i + 1] = e.elastic_rolling;
-      spring_energy[3 * i + 2] = e.elastic_twisting;
+      spring_energy[4 * i] = e.elastic_sliding;
+      spring_energy[4 * i + 1] = e.elastic_rolling;
+      spring_energy[4 * i + 2] = e.elastic_twisting;
+      spring_energy[4 * i + 3] = chunk.normal_elastic[c];
     }
   }
   chunk.clear();
@@ -597,13 +620,16 @@ void FixWallGranRollslide::end_contact(int i)
   if (energy) {
     rsl_contact_energy e;
     memset(&e, 0, sizeof e);
-    e.slider_sliding = spring_energy[3 * i];
-    e.slider_rolling = spring_energy[3 * i + 1];
-    e.slider_twisting = spring_energy[3 * i + 2];
+    e.slider_sliding = spring_energy[4 * i];
+    e.slider_rolling = spring_energy[4 * i + 1];
+    e.slider_twisting = spring_energy[4 * i + 2];
     energy->tally(i, 1.0, true, e, 0.0, 0.0);
+    // A JKR neck breaking loses its normal force's potential (other models' contacts end at
+    // zero overlap, with none).
+    if (coeffs.normal == granular::JKR) energy->tally_neck_wall(i, spring_energy[4 * i + 3]);
   }
   rsl_contact_state_init(&history[i]);
-  spring_energy[3 * i] = spring_energy[3 * i + 1] = spring_energy[3 * i + 2] = 0.0;
+  for (int k = 0; k < 4; k++) spring_energy[4 * i + k] = 0.0;
   side[i] = NO_WALL;
 }
 
@@ -635,7 +661,7 @@ void FixWallGranRollslide::grow_arrays(int nmax)
   if ((int) history.size() < nmax) {
     history.resize(nmax);
     side.resize(nmax, NO_WALL);
-    spring_energy.resize(3 * (size_t) nmax, 0.0);
+    spring_energy.resize(4 * (size_t) nmax, 0.0);
   }
 }
 
@@ -643,14 +669,14 @@ void FixWallGranRollslide::copy_arrays(int i, int j, int)
 {
   history[j] = history[i];
   side[j] = side[i];
-  for (int k = 0; k < 3; k++) spring_energy[3 * j + k] = spring_energy[3 * i + k];
+  for (int k = 0; k < 4; k++) spring_energy[4 * j + k] = spring_energy[4 * i + k];
 }
 
 void FixWallGranRollslide::set_arrays(int i)
 {
   rsl_contact_state_init(&history[i]);
   side[i] = NO_WALL;
-  for (int k = 0; k < 3; k++) spring_energy[3 * i + k] = 0.0;
+  for (int k = 0; k < 4; k++) spring_energy[4 * i + k] = 0.0;
 }
 
 void FixWallGranRollslide::pack_atom(int i, double *buf) const
@@ -663,7 +689,8 @@ void FixWallGranRollslide::pack_atom(int i, double *buf) const
       s.model_memory.x, s.model_memory.y, s.model_memory.z,
       s.previous_normal.x,  s.previous_normal.y,  s.previous_normal.z,
       (double) s.slip_flags, (double) side[i],
-      spring_energy[3 * i], spring_energy[3 * i + 1], spring_energy[3 * i + 2]};
+      spring_energy[4 * i], spring_energy[4 * i + 1], spring_energy[4 * i + 2],
+      spring_energy[4 * i + 3]};
   memcpy(buf, values, sizeof values);
 }
 
@@ -678,7 +705,7 @@ void FixWallGranRollslide::unpack_atom(const double *b, int i)
   s.slip_flags = (uint32_t) b[13];
   s.reserved = 0;
   side[i] = (int) b[14];
-  for (int k = 0; k < 3; k++) spring_energy[3 * i + k] = b[15 + k];
+  for (int k = 0; k < 4; k++) spring_energy[4 * i + k] = b[15 + k];
 }
 
 int FixWallGranRollslide::pack_exchange(int i, double *buf)
@@ -708,7 +735,13 @@ void FixWallGranRollslide::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
-  unpack_atom(&extra[nlocal][m + 1], nlocal);
+  if (static_cast<int>(extra[nlocal][m]) == 1 + OLD_ATOM_DOUBLES) {
+    // Written before the normal energy was kept: read with it 0.
+    double b[ATOM_DOUBLES] = {};
+    memcpy(b, &extra[nlocal][m + 1], OLD_ATOM_DOUBLES * sizeof(double));
+    unpack_atom(b, nlocal);
+  } else
+    unpack_atom(&extra[nlocal][m + 1], nlocal);
 }
 
 int FixWallGranRollslide::size_restart(int)

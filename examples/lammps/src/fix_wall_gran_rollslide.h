@@ -69,13 +69,17 @@ class FixWallGranRollslide : public Fix {
 
   // Per atom: the history of its wall contact (the atom is body 1), which wall it is with, and
   // the elastic energies of its sliding, rolling and twisting springs after the last step (with
-  // the energy compute: dissipated by the sliders when the contact ends). Packed as doubles:
-  // the 13 doubles of the state, its slip flags and the side as numbers (integers are
-  // converted, never sent as raw bits), the 3 energies.
-  static constexpr int ATOM_DOUBLES = 18;
+  // the energy compute: dissipated by the sliders when the contact ends) and its normal force's
+  // potential (a JKR neck's, lost when it breaks). Packed as doubles: the 13 doubles of the
+  // state, its slip flags and the side as numbers (integers are converted, never sent as raw
+  // bits), the 4 energies.
+  static constexpr int ATOM_DOUBLES = 19;
+  static constexpr int OLD_ATOM_DOUBLES = 18;    // restart files without the normal energy
   std::vector<rsl_contact_state> history;
   std::vector<int> side;
-  std::vector<double> spring_energy;    // 3 per atom
+  // 4 per atom: the sliding, rolling, twisting springs' elastic energy after the contact's last
+  // step, and its normal force's potential (a JKR neck's energy, lost if it breaks).
+  std::vector<double> spring_energy;
 
   // The contacts gathered for one batch call (see post_force), and the call's buffers.
   static constexpr size_t CHUNK = 256;

@@ -6,6 +6,7 @@
 #include "utils.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -62,7 +63,7 @@ const char *granular::tangential_name(int tangential)
 bool Coeffs::operator==(const Coeffs &o) const
 {
   return normal == o.normal && kn == o.kn && damp == o.damp && emod == o.emod &&
-      poisson == o.poisson && damping == o.damping && tangential == o.tangential && kt == o.kt &&
+      poisson == o.poisson && coh == o.coh && damping == o.damping && tangential == o.tangential && kt == o.kt &&
       xgammat == o.xgammat && mu_s == o.mu_s && rolling == o.rolling && kr == o.kr &&
       gr == o.gr && mu_r == o.mu_r && twist == o.twist && ktw == o.ktw && gtw == o.gtw &&
       mu_tw == o.mu_tw && limit_damping == o.limit_damping && cutoff == o.cutoff;
@@ -96,6 +97,23 @@ int granular::parse(LAMMPS *lmp, int narg, char **arg, int iarg, Coeffs &c,
       c.poisson = num(iarg + 3);
       has_normal = true;
       iarg += 4;
+    } else if (strcmp(kw, "dmt") == 0 || strcmp(kw, "jkr") == 0) {
+      // E eta_n nu coh (a keyword where a number should be: coh, or more, left out)
+      need(iarg, 4, kw);
+      for (int k = 1; k <= 4; k++) {
+        char *end = nullptr;
+        strtod(arg[iarg + k], &end);
+        if (end == arg[iarg + k] || *end != '\0')
+          fail(what + ": '" + kw + "' needs E, eta_n, nu and coh (got '" + arg[iarg + k] +
+               "' for " + (k == 1 ? "E" : k == 2 ? "eta_n" : k == 3 ? "nu" : "coh") + ")");
+      }
+      c.normal = strcmp(kw, "dmt") == 0 ? DMT : JKR;
+      c.emod = num(iarg + 1);
+      c.damp = num(iarg + 2);
+      c.poisson = num(iarg + 3);
+      c.coh = num(iarg + 4);
+      has_normal = true;
+      iarg += 5;
     } else if (strcmp(kw, "damping") == 0) {
       need(iarg, 1, kw);
       const char *d = arg[iarg + 1];
@@ -178,23 +196,27 @@ int granular::parse(LAMMPS *lmp, int narg, char **arg, int iarg, Coeffs &c,
       iarg += 1;
     } else {
       fail(what + ": keyword '" + kw +
-           "' is not supported (normal hooke, hertz, hertz/material; damping velocity, "
+           "' is not supported (normal hooke, hertz, hertz/material, dmt, jkr; damping velocity, "
            "mass_velocity, viscoelastic, tsuji; tangential linear_nohistory, linear_history, "
            "mindlin, mindlin_rescale, mindlin/force, mindlin_rescale/force; rolling sds; "
            "twisting sds, marshall; cutoff; limit_damping)");
     }
   }
   if (!has_normal || !has_tangential) fail(what + ": a normal model and a tangential model are required");
-  if (kt_null && c.normal != HERTZ_MATERIAL)
+  if (kt_null && (c.normal == HOOKE || c.normal == HERTZ))
     fail(what + ": tangential " + tangential_name(c.tangential) +
-         " NULL (the stiffness from the material) needs the hertz/material normal model");
+         " NULL (the stiffness from the material) needs the hertz/material normal model "
+         "(or dmt, jkr)");
+  if (c.limit_damping && (c.normal == DMT || c.normal == JKR))
+    fail(what + ": limit_damping cannot be used with the " + (c.normal == DMT ? "dmt" : "jkr") +
+         " normal model (as pair granular)");
   // As pair granular stores them.
   if (c.damping == TSUJI) {
     double cor = c.damp;
     c.damp = 1.2728 - 4.2783 * cor + 11.087 * cor * cor - 22.348 * (cor * cor * cor) +
         27.467 * power(cor, 4) - 18.022 * power(cor, 5) + 4.8218 * power(cor, 6);
   }
-  if (c.normal == HERTZ_MATERIAL) c.kn = 4.0 / 3.0 * mix_e(c.emod, c.emod, c.poisson, c.poisson);
+  if (c.normal == HERTZ_MATERIAL || c.normal == DMT || c.normal == JKR) c.kn = 4.0 / 3.0 * mix_e(c.emod, c.emod, c.poisson, c.poisson);
   if (kt_null) c.kt = 8 * mix_g(c.emod, c.emod, c.poisson, c.poisson);
   c.set = true;
   return iarg;

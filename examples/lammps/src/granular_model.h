@@ -18,7 +18,11 @@ class LAMMPS;
 
 namespace granular {
 
-enum Normal { HOOKE, HERTZ, HERTZ_MATERIAL };
+// DMT: Hertz's elastic force minus the pull-off force 4 pi coh R_eff (coh: the cohesion energy
+// density); JKR: the force of the JKR contact radius a (see jkr_contact_radius), which persists
+// beyond touching (negative overlap) until pull-off. Both with the normal coefficient 4/3 E* as
+// hertz/material's.
+enum Normal { HOOKE, HERTZ, HERTZ_MATERIAL, DMT, JKR };
 enum Damping { VELOCITY, MASS_VELOCITY, VISCOELASTIC, TSUJI };
 // LAMMPS' tangential models. linear_nohistory: a dashpot clipped at the friction limit (no
 // spring: k_t = 0 in the library's linear law); linear_history: a spring of constant k_t;
@@ -52,6 +56,7 @@ struct Coeffs {
   double kn = 0.0;         // LAMMPS' normal_coeffs[0] (hertz/material: 4/3 E*)
   double damp = 0.0;       // eta_n (tsuji: from the restitution coefficient)
   double emod = 0.0, poisson = 0.0;
+  double coh = 0.0;        // dmt, jkr: the cohesion energy density
   int damping = VISCOELASTIC;
   int tangential = LINEAR_HISTORY;
   double kt = 0.0, xgammat = 0.0, mu_s = 0.0;    // linear_nohistory: kt = 0
@@ -80,6 +85,60 @@ int parse(LAMMPS *lmp, int narg, char **arg, int iarg, Coeffs &c, const std::str
 // `track_energy`; nullptr with `error` set if the library refuses them.
 rsl_model *new_model(int32_t preset, const Coeffs &c, bool track_energy, std::string &error);
 
+// JKR (E = 3/4 of the normal coefficient, E*; R the effective radius): the overlap of contact
+// radius a is delta(a) = a^2/R - 2 sqrt(pi coh a / E); the contact radius of an overlap is the
+// largest root a of delta(a) = delta (the stable branch), by Newton's method from above: delta(a)
+// is convex, so from a point right of the root the iterates fall monotonically onto it, and
+// the iteration stops when they stop falling (converged to rounding). The start, a =
+// max(sqrt(2 R delta), (2 c R)^(2/3)) with c = 2 sqrt(pi coh / E), has a^2/R >= delta + c sqrt(a)
+// (each half of a^2/R bounds one term), so it is right of the root. For an overlap below the
+// branch's minimum (no root) it returns the minimum's a.
+inline double jkr_contact_radius(double estar, double coh, double delta, double reff)
+{
+  const double c = 2 * sqrt(M_PI * coh / estar);
+  double a = fmax(sqrt(2 * reff * fmax(delta, 0.0)), cbrt(2 * c * reff * 2 * c * reff));
+  if (a == 0.0) return 0.0;
+  for (int k = 0; k < 200; k++) {
+    const double sa = sqrt(a);
+    const double g = a * a / reff - c * sa - delta;
+    const double dg = 2 * a / reff - 0.5 * c / sa;
+    if (!(dg > 0.0)) break;
+    const double next = a - g / dg;
+    if (!(next < a)) break;
+    a = next;
+  }
+  return a;
+}
+// The pull-off overlap of a pair (negative: the contact persists while the overlap stays above
+// it): delta at LAMMPS' pull-off radius a = (9 pi coh R^2 / (4 E))^(1/3).
+inline double jkr_pulloff_overlap(double estar, double coh, double reff)
+{
+  const double a = cbrt(9 * M_PI * coh * reff * reff / (4 * estar));
+  return a * a / reff - 2 * sqrt(M_PI * coh * a / estar);
+}
+// The JKR normal force at contact radius a: F = 4/3 E a^3/R - 4 sqrt(pi coh E a^3) (kn = 4/3 E).
+inline double jkr_force(double kn, double coh, double a, double reff)
+{
+  const double estar = 0.75 * kn;
+  return kn * a * a * a / reff - 4 * sqrt(M_PI * coh * estar * a * a * a);
+}
+// The JKR normal force's potential: the work of F along the JKR curve from the touch (delta =
+// 0, a = a0 = (c R)^(2/3)) to contact radius a. With delta'(a) = 2a/R - (c/2) a^(-1/2), the
+// integrand F delta'(a) integrates to P(a) = (8/15) E a^5/R^2 - (8/3) sqrt(pi coh E) a^(7/2)/R
+// + 2 pi coh a^2; U(a) = P(a) - P(a0).
+inline double jkr_potential_at(double estar, double coh, double a, double reff)
+{
+  const double sa = sqrt(a);
+  return 8.0 / 15.0 * estar * a * a * a * a * a / (reff * reff) -
+      8.0 / 3.0 * sqrt(M_PI * coh * estar) * a * a * a * sa / reff + 2 * M_PI * coh * a * a;
+}
+inline double jkr_potential(double estar, double coh, double a, double reff)
+{
+  const double c = 2 * sqrt(M_PI * coh / estar);
+  const double a0 = cbrt(c * reff * c * reff);
+  return jkr_potential_at(estar, coh, a, reff) - jkr_potential_at(estar, coh, a0, reff);
+}
+
 // The normal force of one contact, as LAMMPS 20220106's granular models compute it, and the
 // per-contact sliding coefficients that go with it.
 struct NormalForce {
@@ -90,8 +149,14 @@ struct NormalForce {
   double sliding_stiffness;  // k_t (the mindlin family: kt a; linear_nohistory: 0)
   double sliding_damping;    // gamma_t = xgammat times the normal dashpot's prefactor
   bool per_contact_stiffness, per_contact_damping;  // whether the step must pass them
+  // Cohesive models (dmt, jkr): the limits use `limit_force` (LAMMPS' Fncrit = |Fne + 2 F_pulloff|,
+  // passed with RSL_INPUT_LIMIT_FORCE), which the batch calls cannot take: such contacts are
+  // stepped one at a time.
+  bool cohesive;
+  double limit_force;
+  double contact_radius;     // a: sqrt(delta R_eff), JKR's own for jkr
 };
-// delta: overlap (> 0); reff: effective radius; meff: effective mass; vn: normal velocity of
+// delta: overlap (> 0; for jkr also a neck's negative overlap beyond touching); reff: effective radius; meff: effective mass; vn: normal velocity of
 // body 1 relative to body 2 along the normal from body 2 to body 1 (negative while approaching).
 // Inline: the pair style calls it once per touching pair.
 inline NormalForce normal_force(const Coeffs &c, double delta, double reff, double meff, double vn)
@@ -100,11 +165,21 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
   const double dR = delta * reff;
   double knfac = c.kn;
   double Fne = knfac * delta;
-  const double a = sqrt(dR);
-  if (c.normal != HOOKE) {
+  const bool jkr = c.normal == JKR;
+  // JKR: the contact radius of the JKR relation (delta may be negative: a neck beyond touching).
+  const double a = jkr ? jkr_contact_radius(0.75 * c.kn, c.coh, delta, reff) : sqrt(dR);
+  if (jkr) {
+    knfac *= a;
+    Fne = jkr_force(c.kn, c.coh, a, reff);
+  } else if (c.normal != HOOKE) {
     Fne *= a;
     knfac *= a;
   }
+  const double hertz_force = Fne;
+  const bool dmt = c.normal == DMT;
+  // DMT: the pull-off force 4 pi coh R_eff, subtracted as pair granular does.
+  const double pulloff = dmt ? 4 * M_PI * c.coh * reff : 0.0;
+  if (dmt) Fne -= pulloff;
   double damp_normal;
   switch (c.damping) {
     case VELOCITY: damp_normal = 1; break;
@@ -120,7 +195,18 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
   if (c.limit_damping && out.force < 0.0) out.force = 0.0;
   // Hooke: F = k delta, energy k delta^2 / 2; Hertz: F = k sqrt(R) delta^(3/2), energy
   // (2/5) k sqrt(R) delta^(5/2) = (2/5) F delta.
-  out.elastic = (c.normal == HOOKE ? 0.5 : 0.4) * Fne * delta;
+  // DMT: the Hertz spring's energy minus the pull-off force's work, (2/5) k sqrt(R) delta^(5/2)
+  // - 4 pi coh R delta (zero at delta = 0, where the contact forms and breaks).
+  // JKR: U(a) (jkr_potential).
+  out.elastic = jkr ? jkr_potential(0.75 * c.kn, c.coh, a, reff)
+                    : (c.normal == HOOKE ? 0.5 : 0.4) * hertz_force * delta - pulloff * delta;
+  out.cohesive = dmt || jkr;
+  out.contact_radius = a;
+  // LAMMPS' Fncrit: |Fne + 2 F_pulloff| for the cohesive models (F_pulloff = 4 pi coh R for
+  // DMT, 3 pi coh R for JKR), else |Fntot| (the preset's own rule, so not passed).
+  out.limit_force = dmt ? fabs(Fne + 2 * pulloff)
+      : jkr             ? fabs(Fne + 2 * (3 * M_PI * c.coh * reff))
+                        : fabs(out.force);
   // The per-contact sliding coefficients of pair granular: the tangential dashpot scales with
   // the normal one for every damping model but velocity (with velocity it is the model's
   // constant xgammat eta_n, to the bit), the mindlin family's k_t with a (linear_history's

@@ -316,6 +316,11 @@ double PairGranularRollslide::init_one(int i, int j)
   const Coeffs &c = at(i, j);
   if (c.cutoff >= 0.0) return c.cutoff;
   double cut = maxrad[i] + maxrad[j];
+  // JKR: a neck holds until the pull-off distance (the largest radii's, which is the largest),
+  // so the neighbour list reaches that far.
+  if (c.normal == granular::JKR && maxrad[i] > 0.0 && maxrad[j] > 0.0)
+    cut -= granular::jkr_pulloff_overlap(0.75 * c.kn, c.coh,
+                                         maxrad[i] * maxrad[j] / (maxrad[i] + maxrad[j]));
   return cut > 0.0 ? cut : 0.0;
 }
 
@@ -507,7 +512,15 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
       const double rsq = delx * delx + dely * dely + delz * delz;
       const double radj = radius[j];
       const double radsum = radi + radj;
-      if (rsq >= radsum * radsum) {
+      const int jtype = type[j];
+      const Coeffs &c = at(itype, jtype);
+      // The contact's reach: the touching distance, and for a JKR contact that touched (its
+      // neck) the pull-off distance radsum - delta_pulloff (delta_pulloff < 0), as LAMMPS'.
+      double reach = radsum;
+      if (c.normal == granular::JKR && touch[e])
+        reach = radsum -
+            granular::jkr_pulloff_overlap(0.75 * c.kn, c.coh, radi * radj / radsum);
+      if (rsq >= reach * reach) {
         // Not touching: the contact (if any) ends and its history is dropped, as LAMMPS does.
         if (touch[e]) {
           if (ENERGY) release(i, j, e);
@@ -516,8 +529,6 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
         }
         continue;
       }
-      const int jtype = type[j];
-      const Coeffs &c = at(itype, jtype);
 
       // The normal force, as pair granular computes it (n from j to i here).
       const double r = sqrt(rsq);
@@ -537,7 +548,7 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
       const bool per_gammat = nf.per_contact_damping, per_kt = nf.per_contact_stiffness;
       const double gammat = nf.sliding_damping;
       const double kt = nf.sliding_stiffness;
-      if (!setup) {
+      if (!setup && !nf.cohesive) {
         // Gathered for one batch call per chunk (one group, hence one law set, per chunk).
         const Slot &slot = slots[itype * (ntypes + 1) + jtype];
         if (slot.group != chunk_group) {
@@ -588,13 +599,23 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
         }
         continue;
       }
-      // Per contact: the setup pass (LAMMPS' setup step stores no history increment).
+      // Per contact: the setup pass (LAMMPS' setup step stores no history increment), and the
+      // cohesive models' contacts, whose limits take LAMMPS' Fncrit (|Fne + 2 F_pulloff|), which
+      // the batch calls have no per-contact input for (one library call per contact: slower
+      // than the batch calls, but the only way to pass it).
       flush();
       rsl_contact_input in;
       memset(&in, 0, sizeof in);
       in.normal_force = Fntot;
       in.dt = dt;
       if (setup) in.flags |= RSL_INPUT_SETUP;
+      if (nf.cohesive) {
+        in.flags |= RSL_INPUT_LIMIT_FORCE;
+        in.limit_force = nf.limit_force;
+        // Mindlin's k_t = kt a and Marshall's twisting take JKR's a (the library's own would be
+        // sqrt(delta R), undefined beyond touching).
+        in.contact_radius = nf.contact_radius;
+      }
       if (per_gammat) {
         in.flags |= RSL_INPUT_SLIDING_DAMPING;
         in.sliding_damping = gammat;
@@ -611,7 +632,9 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
       if (st != RSL_OK) library_error("rsl_contact_step", st, tag[i], tag[j]);
       const double del[3] = {delx, dely, delz};
       apply(i, j, del, out.force1, out.torque1, out.torque2);
-      if (ENERGY) {
+      if (ENERGY && !setup) {
+        tally(i, j, e, out.energy, granular::normal_dissipation(nf, vnnr, dt), nf.elastic);
+      } else if (ENERGY) {
         // No time passes in the setup pass: no dashpot dissipates (see "Energy" above).
         rsl_contact_energy en = out.energy;
         en.dashpot_sliding = en.dashpot_rolling = en.dashpot_twisting = 0.0;
@@ -639,10 +662,11 @@ void PairGranularRollslide::tally(int i, int j, bigint e, const rsl_contact_ener
   // Half to i, half to j if local: a ghost j's owner tallies its half itself (it computes the
   // contact too: newton off list).
   if (energy) energy->tally_pair(i, j, atom->nlocal, en, normal_dissipated, normal_elastic);
-  double *el = &history->elastic[3 * e];
+  double *el = &history->elastic[FixRollslideHistory::ENERGIES * e];
   el[0] = en.elastic_sliding;
   el[1] = en.elastic_rolling;
   el[2] = en.elastic_twisting;
+  el[3] = normal_elastic;
   if (per_contact) {
     rates_pass[e] = pass;
     double *r = &contact_rates[NRATES * e];
@@ -658,14 +682,20 @@ void PairGranularRollslide::tally(int i, int j, bigint e, const rsl_contact_ener
 
 // A contact that ended (its history is about to be dropped): the energy its springs held after
 // its last step is dissipated by its sliders (with no contact, every friction limit is zero).
+//
+// A JKR neck breaking at pull-off also loses its normal force's potential U(a) of its last
+// step (the energy the neck held, counted from the touch): the neck-breaking column. (Other
+// models' contacts end at zero overlap, where their normal potential is zero.)
 void PairGranularRollslide::release(int i, int j, bigint e)
 {
-  const double *el = &history->elastic[3 * e];
+  const double *el = &history->elastic[FixRollslideHistory::ENERGIES * e];
   rsl_contact_energy en;
   memset(&en, 0, sizeof en);
   en.slider_sliding = el[0];
   en.slider_rolling = el[1];
   en.slider_twisting = el[2];
+  const double neck = at(atom->type[i], atom->type[j]).normal == granular::JKR ? el[3] : 0.0;
+  if (energy && neck != 0.0) energy->tally_neck_pair(i, j, atom->nlocal, neck);
   tally(i, j, e, en, 0.0, 0.0);
 }
 
@@ -708,7 +738,16 @@ double PairGranularRollslide::single(int i, int j, int itype, int jtype, double 
   }
   double *radius = atom->radius;
   const double radsum = radius[i] + radius[j];
-  if (rsq >= radsum * radsum) return 0.0;
+  if (rsq >= radsum * radsum) {
+    // A JKR neck beyond touching (found only with a compute pair/local at the run's init).
+    const Coeffs &c = at(itype, jtype);
+    if (c.normal != granular::JKR || !per_contact) return 0.0;
+    const bigint e = find_entry(i, j);
+    if (e < 0 || !history->touch[e]) return 0.0;
+    const double reach =
+        radsum - granular::jkr_pulloff_overlap(0.75 * c.kn, c.coh, radius[i] * radius[j] / radsum);
+    if (rsq >= reach * reach) return 0.0;
+  }
 
   double **x = atom->x;
   double **v = atom->v;

@@ -1,6 +1,8 @@
 // pair_style granular/rollslide [objective|lammps]
 //
-// LAMMPS' pair_style granular (20220106) for the subset: normal hooke | hertz | hertz/material,
+// LAMMPS' pair_style granular (20220106) for the subset: normal hooke | hertz | hertz/material |
+// dmt | jkr (JKR's necks beyond touching until pull-off; the cohesive models' contacts step one
+// at a time, with LAMMPS' per-contact limit force),
 // damping velocity | mass_velocity | viscoelastic | tsuji, tangential linear_nohistory |
 // linear_history | mindlin | mindlin_rescale | mindlin/force | mindlin_rescale/force, rolling
 // sds, twisting sds | marshall, limit_damping, cutoff. The normal force is computed
