@@ -911,9 +911,9 @@ fn bad_input_is_a_lammps_error_with_a_message(exe: &Path) {
 
 // ----------------------------------------------------------------------------------------------
 
-/// JKR's pull-off overlap (negative) of in.packing's cohesive laws (E 1e5, nu 0.3: E* = E / (2 (1
-/// - nu^2)), coh) for effective radius r: LAMMPS' pull-off radius a = (9 pi coh R^2 / (4 E*))^(1/3)
-/// on the JKR curve delta = a^2/R - 2 sqrt(pi coh a / E*).
+/// JKR's pull-off overlap (negative) of in.packing's cohesive laws (E 1e5, nu 0.3, so
+/// E* = E / (2 (1 - nu^2)), and coh) for effective radius r: LAMMPS' pull-off radius
+/// a = (9 pi coh R^2 / (4 E*))^(1/3) on the JKR curve delta = a^2/R - 2 sqrt(pi coh a / E*).
 fn jkr_pulloff_overlap(coh: f64, r: f64) -> f64 {
     let estar = 1e5 / (2.0 * (1.0 - 0.3 * 0.3));
     let pi = std::f64::consts::PI;

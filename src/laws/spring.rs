@@ -5,15 +5,17 @@
 //! ([`rescale_overflowed`]) in its lane only, so it gets its limit, not zero.
 
 use crate::scalar::{
-    dot, lit, mask, norm_squared, rescale_overflowed, select, select3, Real, Vec3,
+    dot, lit, mask, norm, norm_squared, rescale_overflowed, select, select3, Real, Vec3,
 };
 use simba::simd::SimdBool;
 
 /// How the limit is applied when the trial load exceeds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ClipRule {
-    /// Scale the total load (spring + dashpot) to the limit and reset the spring so that
-    /// `load = spring load - gamma v` still holds (models.md section 2; YADE has no dashpot).
+    /// Scale the total load (spring + dashpot) to the limit and reset the spring to the part of
+    /// it the dashpot does not carry: `-gamma v`, or, where `gamma |v|` alone exceeds the limit,
+    /// `-limit v / |v|` (the dashpot carries at most the limit, so the spring is never reset to
+    /// push against it). The objective preset's rule; YADE has no dashpot.
     Total,
     /// As `Total`, except LAMMPS' corner case: a slipping spring of zero length gives a zero
     /// load. For scalar springs also LAMMPS' sign rule: the clipped moment takes the sign of
@@ -190,6 +192,8 @@ pub fn vector_spring<T: Real>(
     let damping_load = rate * c.damping;
     let k_positive = k.simd_gt(zero);
     let safe_k = select(k_positive, k, T::one());
+    // Slipping lanes whose dashpot load alone exceeds the limit ([`ClipRule::Total`] only).
+    let mut capped = mask::<T>(false);
     let (load, new_spring, new_elastic, slipped, damped) = match rule {
         ClipRule::Total | ClipRule::Lammps => {
             let load = elastic_trial - damping_load;
@@ -211,7 +215,31 @@ pub fn vector_spring<T: Real>(
                         };
                     let scale = c.limit / select(slipped, length, T::one());
                     let clipped = load_in_range * scale;
-                    let elastic_reset = clipped + damping_load;
+                    let dashpot_share = if rule == ClipRule::Total {
+                        // The dashpot carries at most the limit: where `gamma |v|` alone
+                        // exceeds it, its share of the clipped load is `limit v / |v|`, so the
+                        // spring is never reset to push against the dashpot (with LAMMPS' rule
+                        // it is, storing `|gamma v - limit|^2 / (2 k)`, without bound as
+                        // `k -> 0`).
+                        let d2 = norm_squared(&damping_load);
+                        capped = slipped & d2.simd_gt(c.limit * c.limit);
+                        if capped.any() {
+                            // From a rescaled copy where |gamma v|^2 overflowed (as the clip).
+                            let length = d2.simd_sqrt();
+                            let (in_range, length) = match rescale_overflowed(&damping_load, length)
+                            {
+                                None => (damping_load, length),
+                                Some(r) => (damping_load / r.divisor, r.scaled_norm),
+                            };
+                            let length = select(capped, length, T::one());
+                            select3(capped, &(in_range * (c.limit / length)), &damping_load)
+                        } else {
+                            damping_load
+                        }
+                    } else {
+                        damping_load
+                    };
+                    let elastic_reset = clipped + dashpot_share;
                     let spring_reset = match storage {
                         // `(-1/k) E`, one division for the three components, as LAMMPS
                         // writes it (`-1.0/k_tangential*(...)`), hence its bits.
@@ -276,7 +304,11 @@ pub fn vector_spring<T: Real>(
     };
     let energy = if energy {
         let elastic = energy_of(norm_squared(&new_elastic), k);
-        let dashpot = select(damped, c.damping * norm_squared(rate) * dt, zero);
+        let mut dashpot = select(damped, c.damping * norm_squared(rate) * dt, zero);
+        if capped.any() {
+            // The capped dashpot's work: its share `limit v / |v|` times `v dt`.
+            dashpot = select(capped, c.limit * norm(rate) * dt, dashpot);
+        }
         // The energy the clip released: zero to the bit where the spring sticks.
         let released = energy_of(norm_squared(&elastic_trial), k) - elastic;
         let slider = if increment && slipped.any() {
@@ -338,6 +370,8 @@ pub fn scalar_spring<T: Real>(
     let damping_load = rate * c.damping;
     let k_positive = c.stiffness.simd_gt(zero);
     let safe_k = select(k_positive, c.stiffness, one);
+    // Slipping lanes whose dashpot moment alone exceeds the limit ([`ClipRule::Total`] only).
+    let mut capped = mask::<T>(false);
     let (load, new_spring, slipped, damped) = match rule {
         ClipRule::Total | ClipRule::Lammps => {
             let load = -c.stiffness * trial - damping_load;
@@ -351,10 +385,18 @@ pub fn scalar_spring<T: Real>(
                     sign_of(load)
                 };
                 let clipped = c.limit * direction;
+                // As in `vector_spring`: under the objective rule the dashpot carries at most
+                // the limit.
+                let dashpot_share = if rule == ClipRule::Total {
+                    capped = slipped & damping_load.simd_abs().simd_gt(c.limit);
+                    select(capped, sign_of(damping_load) * c.limit, damping_load)
+                } else {
+                    damping_load
+                };
                 // `(1/k) (-M)`, as LAMMPS writes it (`1.0/k_twist*(...)`), hence its bits.
                 let reset = select(
                     k_positive,
-                    -(clipped + damping_load) * (one / safe_k),
+                    -(clipped + dashpot_share) * (one / safe_k),
                     trial,
                 );
                 (
@@ -386,7 +428,10 @@ pub fn scalar_spring<T: Real>(
     let energy = if energy {
         let half_k = c.stiffness * lit(0.5);
         let elastic = half_k * new_spring * new_spring;
-        let dashpot = select(damped, c.damping * rate * rate * dt, zero);
+        let mut dashpot = select(damped, c.damping * rate * rate * dt, zero);
+        if capped.any() {
+            dashpot = select(capped, c.limit * rate.simd_abs() * dt, dashpot);
+        }
         // As in `vector_spring`.
         let released = half_k * trial * trial - elastic;
         let slider = if increment && slipped.any() {
