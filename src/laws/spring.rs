@@ -224,15 +224,26 @@ pub fn vector_spring<T: Real>(
                         let d2 = norm_squared(&damping_load);
                         capped = slipped & d2.simd_gt(c.limit * c.limit);
                         if capped.any() {
-                            // From a rescaled copy where |gamma v|^2 overflowed (as the clip).
+                            // From a rescaled copy where |gamma v|^2 overflowed (the rule of
+                            // `rescale_overflowed`, written out per component: one more nalgebra
+                            // product or quotient here left nalgebra's out of line in the AVX2
+                            // double kernel).
+                            let d = &damping_load;
                             let length = d2.simd_sqrt();
-                            let (in_range, length) = match rescale_overflowed(&damping_load, length)
-                            {
-                                None => (damping_load, length),
-                                Some(r) => (damping_load / r.divisor, r.scaled_norm),
+                            let over = length.simd_eq(lit(f64::INFINITY));
+                            let (divisor, length) = if over.any() {
+                                let largest = d.x.simd_abs().simd_max(d.y.simd_abs());
+                                let largest = largest.simd_max(d.z.simd_abs());
+                                let divisor = select(over, largest, T::one());
+                                let (x, y, z) = (d.x / divisor, d.y / divisor, d.z / divisor);
+                                let scaled = (x * x + y * y + z * z).simd_sqrt();
+                                (divisor, select(over, scaled, length))
+                            } else {
+                                (T::one(), length)
                             };
-                            let length = select(capped, length, T::one());
-                            select3(capped, &(in_range * (c.limit / length)), &damping_load)
+                            let f = c.limit / (select(capped, length, T::one()) * divisor);
+                            let share = Vec3::new(d.x * f, d.y * f, d.z * f);
+                            select3(capped, &share, &damping_load)
                         } else {
                             damping_load
                         }
