@@ -65,6 +65,37 @@ fn main() {
     ]);
 }
 
+/// The macroscopic curves of two 3000-step runs of in.packing (`curves[0]`, `curves[1]`: thermo
+/// rows every 100 steps) agree within 1e-6 of each quantity's largest value at every row: kinetic
+/// and rotational energy, coordination number, mean |torque|, pressure. `label` prefixes the
+/// printed lines and the failure message.
+fn assert_curves_agree(curves: &[Vec<Vec<f64>>], label: &str) {
+    assert_eq!(curves[0].len(), 31, "thermo rows of the 3000-step run");
+    assert_eq!(curves[0].len(), curves[1].len());
+    let names = [
+        "kinetic energy",
+        "rotational energy",
+        "coordination",
+        "mean |torque|",
+        "pressure",
+    ];
+    for (c, name) in names.iter().enumerate() {
+        let col = c + 1;
+        let scale = curves[0].iter().map(|r| r[col].abs()).fold(0.0, f64::max);
+        let worst = curves[0]
+            .iter()
+            .zip(&curves[1])
+            .map(|(a, b)| (a[col] - b[col]).abs() / scale)
+            .fold(0.0, f64::max);
+        println!(
+            "{label}{name}: from {:.6} to {:.6}, worst difference {worst:.2e} of its largest value",
+            curves[0][0][col],
+            curves[0].last().unwrap()[col]
+        );
+        assert!(worst < 1e-6, "{label}{name} differs by {worst:.2e}");
+    }
+}
+
 // ----------------------------------------------------------------------------------------------
 
 /// (a) Same scene, same pair_coeff, one rank, newton off, no sorting, no periodic wraps:
@@ -124,30 +155,7 @@ fn stock_granular_and_granular_rollslide_lammps_agree(exe: &Path) {
         );
         curves.push(thermo(&log));
     }
-    assert_eq!(curves[0].len(), 31, "thermo rows of the 3000-step run");
-    assert_eq!(curves[0].len(), curves[1].len());
-    let names = [
-        "kinetic energy",
-        "rotational energy",
-        "coordination",
-        "mean |torque|",
-        "pressure",
-    ];
-    for (c, name) in names.iter().enumerate() {
-        let col = c + 1;
-        let scale = curves[0].iter().map(|r| r[col].abs()).fold(0.0, f64::max);
-        let worst = curves[0]
-            .iter()
-            .zip(&curves[1])
-            .map(|(a, b)| (a[col] - b[col]).abs() / scale)
-            .fold(0.0, f64::max);
-        println!(
-            "{name}: from {:.6} to {:.6}, worst difference {worst:.2e} of its largest value",
-            curves[0][0][col],
-            curves[0].last().unwrap()[col]
-        );
-        assert!(worst < 1e-6, "{name} differs by {worst:.2e}");
-    }
+    assert_curves_agree(&curves, "");
 }
 
 /// (a) for every tangential model of LAMMPS 20220106's pair granular: `linear_nohistory`
@@ -240,30 +248,7 @@ fn every_tangential_model_agrees_with_stock_granular(exe: &Path) {
             );
             curves.push(thermo(&log));
         }
-        assert_eq!(curves[0].len(), 31, "thermo rows of the 3000-step run");
-        assert_eq!(curves[0].len(), curves[1].len());
-        let names = [
-            "kinetic energy",
-            "rotational energy",
-            "coordination",
-            "mean |torque|",
-            "pressure",
-        ];
-        for (c, name) in names.iter().enumerate() {
-            let col = c + 1;
-            let scale = curves[0].iter().map(|r| r[col].abs()).fold(0.0, f64::max);
-            let worst = curves[0]
-                .iter()
-                .zip(&curves[1])
-                .map(|(a, b)| (a[col] - b[col]).abs() / scale)
-                .fold(0.0, f64::max);
-            println!(
-                "law {law}, {name}: from {:.6} to {:.6}, worst difference {worst:.2e} of its largest value",
-                curves[0][0][col],
-                curves[0].last().unwrap()[col]
-            );
-            assert!(worst < 1e-6, "law {law}: {name} differs by {worst:.2e}");
-        }
+        assert_curves_agree(&curves, &format!("law {law}, "));
     }
 }
 
@@ -438,33 +423,7 @@ fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree(exe: &P
         );
         curves.push(thermo(&log));
     }
-    assert_eq!(curves[0].len(), 31, "thermo rows of the 3000-step run");
-    assert_eq!(curves[0].len(), curves[1].len());
-    let names = [
-        "kinetic energy",
-        "rotational energy",
-        "coordination",
-        "mean |torque|",
-        "pressure",
-    ];
-    for (c, name) in names.iter().enumerate() {
-        let col = c + 1;
-        let scale = curves[0].iter().map(|r| r[col].abs()).fold(0.0, f64::max);
-        let worst = curves[0]
-            .iter()
-            .zip(&curves[1])
-            .map(|(a, b)| (a[col] - b[col]).abs() / scale)
-            .fold(0.0, f64::max);
-        println!(
-            "law M, 3 types, {name}: from {:.6} to {:.6}, worst difference {worst:.2e} of its largest value",
-            curves[0][0][col],
-            curves[0].last().unwrap()[col]
-        );
-        assert!(
-            worst < 1e-6,
-            "law M, 3 types: {name} differs by {worst:.2e}"
-        );
-    }
+    assert_curves_agree(&curves, "law M, 3 types, ");
 
     // Two ranks, newton on, sorting, the packing moving through the subdomains.
     let moving = |np: usize, newton: &str, sort: &str| {
