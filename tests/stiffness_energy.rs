@@ -400,3 +400,46 @@ fn the_stiffness_change_of_a_resting_spring_in_closed_form() {
         }
     }
 }
+
+/// A model that keeps the previous stiffnesses refuses a state whose memory is negative (a
+/// corrupted or foreign state) and leaves it untouched; YADE's preset, whose memory is its
+/// off-axis twisting moment, takes any sign.
+#[test]
+fn a_negative_previous_stiffness_is_refused_and_the_state_left_alone() {
+    let b1 = Sphere {
+        position: Vec3::zeros(),
+        velocity: Vec3::new(0.1, 0.0, 0.0),
+        angular_velocity: Vec3::zeros(),
+        radius: 1.0,
+    };
+    let b2 = Sphere {
+        position: Vec3::new(0.0, 0.0, 1.9),
+        ..b1
+    };
+    let input = StepInput::new(10.0, 1e-3);
+    for k in 0..3 {
+        let mut m = Model::with_preset(Preset::Objective);
+        m.sliding.law = SlidingLaw::Linear;
+        m.sliding.stiffness = 100.0;
+        m.sliding.friction = 0.5;
+        m.track_energy = true;
+        let mut memory = Vec3::new(100.0, 0.0, 0.0);
+        memory[k] = -1.0;
+        let before = ContactState {
+            sliding_spring: Vec3::new(1e-3, 0.0, 0.0),
+            model_memory: memory,
+            ..ContactState::default()
+        };
+        let mut state = before;
+        let err = contact_step_pair(&m, &b1, &b2, &input, &mut state).unwrap_err();
+        assert!(format!("{err}").contains("model memory"), "{err}");
+        assert_eq!(state, before);
+        let mut yade = Model::with_preset(Preset::Yade2023);
+        yade.sliding.law = SlidingLaw::Linear;
+        yade.sliding.stiffness = 100.0;
+        yade.sliding.friction = 0.5;
+        yade.track_energy = true;
+        let mut state = before;
+        contact_step_pair(&yade, &b1, &b2, &input, &mut state).unwrap();
+    }
+}
