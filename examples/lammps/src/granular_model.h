@@ -40,8 +40,11 @@ enum Tangential {
 // Whether a tangential model scales k_t with the contact radius (the mindlin family).
 inline bool is_mindlin(int tangential)
 {
-  return tangential == MINDLIN || tangential == MINDLIN_RESCALE || tangential == MINDLIN_FORCE ||
-      tangential == MINDLIN_RESCALE_FORCE;
+  static_assert(MINDLIN_RESCALE > MINDLIN && MINDLIN_FORCE > MINDLIN &&
+                    MINDLIN_RESCALE_FORCE > MINDLIN && LINEAR_HISTORY < MINDLIN &&
+                    LINEAR_NOHISTORY < MINDLIN,
+                "the mindlin family closes the list");
+  return tangential >= MINDLIN;    // one compare: the pair style's hot loop asks per contact
 }
 // The library's sliding history of a tangential model (RSL_SLIDING_HISTORY_*).
 int32_t sliding_history(int tangential);
@@ -151,15 +154,20 @@ struct NormalForce {
   bool per_contact_stiffness, per_contact_damping;  // whether the step must pass them
   // Cohesive models (dmt, jkr): the limits use `limit_force` (LAMMPS' Fncrit = |Fne + 2 F_pulloff|,
   // passed with RSL_INPUT_LIMIT_FORCE), which the batch calls cannot take: such contacts are
-  // stepped one at a time.
+  // stepped one at a time. The other models' limit force is the preset's own (not passed; 0).
   bool cohesive;
   double limit_force;
   double contact_radius;     // a: sqrt(delta R_eff), JKR's own for jkr
 };
-// delta: overlap (> 0; for jkr also a neck's negative overlap beyond touching); reff: effective radius; meff: effective mass; vn: normal velocity of
-// body 1 relative to body 2 along the normal from body 2 to body 1 (negative while approaching).
-// Inline: the pair style calls it once per touching pair.
-inline NormalForce normal_force(const Coeffs &c, double delta, double reff, double meff, double vn)
+// delta: overlap (> 0; for jkr also a neck's negative overlap beyond touching); reff: effective
+// radius; meff: effective mass; vn: normal velocity of body 1 relative to body 2 along the
+// normal from body 2 to body 1 (negative while approaching).
+// The cohesive models (dmt, jkr): normal_force's general form, kept out of line (JKR's contact
+// radius is an iteration) so that the inline normal_force of the pair style's hot loop stays
+// small.
+__attribute__((noinline)) inline NormalForce cohesive_normal_force(const Coeffs &c, double delta,
+                                                                   double reff, double meff,
+                                                                   double vn)
 {
   // The arithmetic of pair granular 20220106, operation for operation (its tests compare bits).
   const double dR = delta * reff;
@@ -207,6 +215,52 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
   out.limit_force = dmt ? fabs(Fne + 2 * pulloff)
       : jkr             ? fabs(Fne + 2 * (3 * M_PI * c.coh * reff))
                         : fabs(out.force);
+  // The per-contact sliding coefficients of pair granular: the tangential dashpot scales with
+  // the normal one for every damping model but velocity (with velocity it is the model's
+  // constant xgammat eta_n, to the bit), the mindlin family's k_t with a (linear_history's
+  // and linear_nohistory's is the model's constant).
+  out.per_contact_damping = c.damping != VELOCITY;
+  out.per_contact_stiffness = is_mindlin(c.tangential);
+  out.sliding_damping = c.xgammat * damp_normal_prefactor;
+  out.sliding_stiffness = out.per_contact_stiffness ? c.kt * a : c.kt;
+  return out;
+}
+
+// Every model; inline for hooke, hertz and hertz/material, which the pair style calls once per
+// touching pair in its hot loop.
+inline NormalForce normal_force(const Coeffs &c, double delta, double reff, double meff, double vn)
+{
+  static_assert(JKR > HERTZ_MATERIAL && DMT > HERTZ_MATERIAL, "the cohesive models close the list");
+  if (__builtin_expect(c.normal > HERTZ_MATERIAL, 0))
+    return cohesive_normal_force(c, delta, reff, meff, vn);
+  // The arithmetic of pair granular 20220106, operation for operation (its tests compare bits).
+  const double dR = delta * reff;
+  double knfac = c.kn;
+  double Fne = knfac * delta;
+  const double a = sqrt(dR);
+  if (c.normal != HOOKE) {
+    Fne *= a;
+    knfac *= a;
+  }
+  double damp_normal;
+  switch (c.damping) {
+    case VELOCITY: damp_normal = 1; break;
+    case MASS_VELOCITY: damp_normal = meff; break;
+    case VISCOELASTIC: damp_normal = a * meff; break;
+    default: damp_normal = sqrt(meff * knfac); break;
+  }
+  const double damp_normal_prefactor = c.damp * damp_normal;
+  NormalForce out;
+  out.damping_force = -damp_normal_prefactor * vn;
+  out.elastic_force = Fne;
+  out.force = Fne + out.damping_force;
+  if (c.limit_damping && out.force < 0.0) out.force = 0.0;
+  // Hooke: F = k delta, energy k delta^2 / 2; Hertz: F = k sqrt(R) delta^(3/2), energy
+  // (2/5) k sqrt(R) delta^(5/2) = (2/5) F delta.
+  out.elastic = (c.normal == HOOKE ? 0.5 : 0.4) * Fne * delta;
+  out.cohesive = false;
+  out.contact_radius = a;
+  out.limit_force = 0.0;    // not passed: the preset's own rule, LAMMPS' |Fntot|
   // The per-contact sliding coefficients of pair granular: the tangential dashpot scales with
   // the normal one for every damping model but velocity (with velocity it is the model's
   // constant xgammat eta_n, to the bit), the mindlin family's k_t with a (linear_history's

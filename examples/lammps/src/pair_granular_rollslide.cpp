@@ -244,6 +244,9 @@ void PairGranularRollslide::init_style()
       if (!at(i, j).set) fail("pair_coeff " + std::to_string(i) + " " + std::to_string(j) + " is missing");
       models[i * (ntypes + 1) + j] = new_model(at(i, j), i, j);
     }
+  any_jkr = false;
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = 1; j <= ntypes; j++) any_jkr = any_jkr || at(i, j).normal == granular::JKR;
   build_groups();
 
   direct.resize(true, track);
@@ -496,6 +499,7 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
     for (int k = 0; k < nall; k++) fill_sphere(spheres[k], x[k], v[k], omega[k], radius[k]);
   }
 
+  const bool jkr_necks = any_jkr;    // a local: the loop tests it without reloading it
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     const int itype = type[i];
@@ -512,14 +516,16 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
       const double rsq = delx * delx + dely * dely + delz * delz;
       const double radj = radius[j];
       const double radsum = radi + radj;
-      const int jtype = type[j];
-      const Coeffs &c = at(itype, jtype);
       // The contact's reach: the touching distance, and for a JKR contact that touched (its
       // neck) the pull-off distance radsum - delta_pulloff (delta_pulloff < 0), as LAMMPS'.
+      // (Without JKR, nothing of j but its position and radius is read before it touches.)
       double reach = radsum;
-      if (c.normal == granular::JKR && touch[e])
-        reach = radsum -
-            granular::jkr_pulloff_overlap(0.75 * c.kn, c.coh, radi * radj / radsum);
+      if (jkr_necks && touch[e]) {
+        const Coeffs &cj = at(itype, type[j]);
+        if (cj.normal == granular::JKR)
+          reach = radsum -
+              granular::jkr_pulloff_overlap(0.75 * cj.kn, cj.coh, radi * radj / radsum);
+      }
       if (rsq >= reach * reach) {
         // Not touching: the contact (if any) ends and its history is dropped, as LAMMPS does.
         if (touch[e]) {
@@ -529,6 +535,8 @@ template <bool ENERGY> void PairGranularRollslide::compute_contacts(bool setup)
         }
         continue;
       }
+      const int jtype = type[j];
+      const Coeffs &c = at(itype, jtype);
 
       // The normal force, as pair granular computes it (n from j to i here).
       const double r = sqrt(rsq);

@@ -77,6 +77,7 @@ class PairGranularRollslide : public Pair {
     uint32_t material = 0;
   };
   std::vector<Slot> slots;
+  bool any_jkr = false;    // a type pair has the jkr normal model (its necks reach beyond touching)
   std::vector<double> maxrad;        // per type
   FixRollslideHistory *history = nullptr;
   int freeze_group_bit = 0;
