@@ -202,6 +202,7 @@ pub fn assert_vec_close(a: &Vec3<f64>, b: &Vec3<f64>, abs: f64, rel: f64, what: 
     );
 }
 
+pub mod granular;
 pub mod lammps;
 pub mod linking;
 pub mod reference;

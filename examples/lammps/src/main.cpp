@@ -12,6 +12,11 @@
 
 #include <mpi.h>
 
+#ifdef ROLLSLIDE_DMT_REFERENCE
+// For the tests: stock's classes with DMT's cohesion set (src/dmt_reference.cpp).
+void rollslide_register_dmt_reference(LAMMPS_NS::LAMMPS *lmp);
+#endif
+
 using namespace LAMMPS_NS;
 
 namespace {
@@ -33,6 +38,9 @@ int main(int argc, char **argv)
   (*lmp->modify->fix_map)[FixRollslideHistory::STYLE] = &create_fix;
   (*lmp->modify->fix_map)[FixWallGranRollslide::STYLE] = &create_wall;
   (*lmp->modify->compute_map)[ComputeRollslideEnergy::STYLE] = &create_energy;
+#ifdef ROLLSLIDE_DMT_REFERENCE
+  rollslide_register_dmt_reference(lmp);
+#endif
   lmp->input->file();
   delete lmp;
   MPI_Barrier(MPI_COMM_WORLD);
