@@ -272,6 +272,11 @@ fn energy_budget_closes_in_a_box_of_rollslide_walls(exe: &Path) {
 /// delta, JKR's U(a) along the JKR curve from the touch; a JKR neck that breaks at pull-off
 /// loses the U(a) it held, in the neck-breaking columns (pair and wall).
 ///
+/// Every mode's total over the run (dashpot + friction: sliding, rolling, twisting; pair and
+/// wall contacts apart) is not negative (above -1e-9 of the dissipated energy) in every run:
+/// the split between dashpot and friction may be (the `lammps` preset's clip rule), the total
+/// is what the mode dissipated.
+///
 /// Controls: the stiffness change is more than 10 times the residual at dt 1e-4 for some
 /// combination (leaving it out would not close the budget; mindlin_rescale and its force form
 /// take energy out of the springs as contacts unload); every jkr combination broke necks on
@@ -323,17 +328,24 @@ fn energy_budget_closes_for_every_combination(exe: &Path) {
             b[PAIR_NECK_BREAKING] - a[PAIR_NECK_BREAKING],
             b[WALL_NECK_BREAKING] - a[WALL_NECK_BREAKING],
         );
-        (residual, dissipated, stiffness, necks)
+        // The smallest mode total (dashpot + friction: values 2 + 3, 4 + 5, 6 + 7 and the
+        // walls' 9 + 10, 11 + 12, 13 + 14) over the run, over the dissipated energy.
+        let lowest_mode = [1, 3, 5, 8, 10, 12]
+            .iter()
+            .map(|&k| (b[k] + b[k + 1] - a[k] - a[k + 1]) / dissipated)
+            .fold(f64::INFINITY, f64::min);
+        (residual, dissipated, stiffness, necks, lowest_mode)
     });
     let mut table = Vec::new();
     let mut failures = Vec::new();
     let (mut stiffness_over_residual, mut necks_over_residual) = (0.0f64, 0.0f64);
     let (mut worst_middle, mut slowest_fall) = (0.0f64, f64::INFINITY);
+    let mut lowest_mode = f64::INFINITY;
     for (law, m) in laws.iter().zip(measured.chunks(dts.len())) {
         let name = law.name();
         assert!(m.iter().all(|r| r.1 > 0.0), "{name}: nothing dissipated");
         let residuals: Vec<f64> = m.iter().map(|r| r.0 / r.1).collect();
-        let (_, dissipated, stiffness, necks) = m[1];
+        let (_, dissipated, stiffness, necks, _) = m[1];
         let middle = residuals[1].abs();
         let line = format!(
             "{name:<58} {:>10.3e} {:>10.3e} {:>10.3e}   {:>10.3e}",
@@ -355,6 +367,12 @@ fn energy_budget_closes_for_every_combination(exe: &Path) {
             failures.push(name.clone());
         }
         for (dt, r) in dts.iter().zip(m) {
+            assert!(
+                r.4 > -1e-9,
+                "{name}, dt {dt}: a mode's total (dashpot + friction) is {:.3e} of the dissipated energy",
+                r.4
+            );
+            lowest_mode = lowest_mode.min(r.4);
             if law.normal == "jkr" {
                 assert!(
                     r.3 .0 > 0.0 && r.3 .1 > 0.0,
@@ -382,7 +400,7 @@ fn energy_budget_closes_for_every_combination(exe: &Path) {
         println!("  {line}");
     }
     println!(
-        "{} combinations: at dt 1e-4 at most {worst_middle:.3e}, falling at least {slowest_fall:.2} times per halving; the stiffness change up to {stiffness_over_residual:.1} times the residual, the jkr necks' energy up to {necks_over_residual:.1} times",
+        "{} combinations: at dt 1e-4 at most {worst_middle:.3e}, falling at least {slowest_fall:.2} times per halving; the stiffness change up to {stiffness_over_residual:.1} times the residual, the jkr necks' energy up to {necks_over_residual:.1} times; the smallest mode total {lowest_mode:.3e} of the dissipated energy",
         laws.len()
     );
     assert!(
@@ -442,7 +460,9 @@ fn vector_difference(a: &[f64], b: &[f64]) -> (f64, f64) {
 /// of the total dissipated between the runs, the total dissipated minus the stiffness change
 /// (what the budget takes) by 3e-14. Measured in this matrix: loads at most 1.2e-9 (force)
 /// and 4.0e-9 (torque) of the mean, energies 3.0e-10 relative and 7.0e-11 of the total
-/// dissipated. Control: the walls dissipated energy in every run.
+/// dissipated. Every mode's total (dashpot + friction, pair and wall contacts apart) is not
+/// negative in the reference run (above -1e-9 of the dissipated energy), with either preset.
+/// Control: the walls dissipated energy in every run.
 fn every_combination_across_ranks_newton_sorting_and_restart(exe: &Path) {
     let dir = rundir("energy_matrix_mpi");
     let scale = Scale {
@@ -506,6 +526,17 @@ fn every_combination_across_ranks_newton_sorting_and_restart(exe: &Path) {
             &format!("resumed_{tag}.dump"),
         );
         let (reference, resumed) = (reference.unwrap(), resumed.unwrap());
+        // Every mode's total (dashpot + friction) is not negative, with either preset.
+        for k in [1, 3, 5, 8, 10, 12] {
+            let total = reference[k] + reference[k + 1];
+            assert!(
+                total > -1e-9 * reference[TOTAL_DISSIPATED],
+                "{} ({preset}): values {} + {} sum to {total:e}",
+                law.name(),
+                k + 1,
+                k + 2
+            );
+        }
         let walls: f64 = reference[7..14].iter().sum();
         assert!(
             reference[TOTAL_DISSIPATED] > 0.0 && walls > 0.0,
