@@ -162,32 +162,11 @@ struct NormalForce {
 // delta: overlap (> 0; for jkr also a neck's negative overlap beyond touching); reff: effective
 // radius; meff: effective mass; vn: normal velocity of body 1 relative to body 2 along the
 // normal from body 2 to body 1 (negative while approaching).
-// The cohesive models (dmt, jkr): normal_force's general form, kept out of line (JKR's contact
-// radius is an iteration) so that the inline normal_force of the pair style's hot loop stays
-// small.
-__attribute__((noinline)) inline NormalForce cohesive_normal_force(const Coeffs &c, double delta,
-                                                                   double reff, double meff,
-                                                                   double vn)
+// The normal dashpot's prefactor eta_n of pair granular 20220106 (damping_normal_prefactor:
+// its damping model's factor times the coefficient), for the contact radius a, LAMMPS' knfac
+// (the normal stiffness at this overlap) and the effective mass.
+inline double damping_prefactor(const Coeffs &c, double a, double knfac, double meff)
 {
-  // The arithmetic of pair granular 20220106, operation for operation (its tests compare bits).
-  const double dR = delta * reff;
-  double knfac = c.kn;
-  double Fne = knfac * delta;
-  const bool jkr = c.normal == JKR;
-  // JKR: the contact radius of the JKR relation (delta may be negative: a neck beyond touching).
-  const double a = jkr ? jkr_contact_radius(0.75 * c.kn, c.coh, delta, reff) : sqrt(dR);
-  if (jkr) {
-    knfac *= a;
-    Fne = jkr_force(c.kn, c.coh, a, reff);
-  } else if (c.normal != HOOKE) {
-    Fne *= a;
-    knfac *= a;
-  }
-  const double hertz_force = Fne;
-  const bool dmt = c.normal == DMT;
-  // DMT: the pull-off force 4 pi coh R_eff, subtracted as pair granular does.
-  const double pulloff = dmt ? 4 * M_PI * c.coh * reff : 0.0;
-  if (dmt) Fne -= pulloff;
   double damp_normal;
   switch (c.damping) {
     case VELOCITY: damp_normal = 1; break;
@@ -195,39 +174,67 @@ __attribute__((noinline)) inline NormalForce cohesive_normal_force(const Coeffs 
     case VISCOELASTIC: damp_normal = a * meff; break;
     default: damp_normal = sqrt(meff * knfac); break;
   }
-  const double damp_normal_prefactor = c.damp * damp_normal;
-  NormalForce out;
-  out.damping_force = -damp_normal_prefactor * vn;
-  out.elastic_force = Fne;
-  out.force = Fne + out.damping_force;
-  if (c.limit_damping && out.force < 0.0) out.force = 0.0;
-  // Hooke: F = k delta, energy k delta^2 / 2; Hertz: F = k sqrt(R) delta^(3/2), energy
-  // (2/5) k sqrt(R) delta^(5/2) = (2/5) F delta.
-  // DMT: the Hertz spring's energy minus the pull-off force's work, (2/5) k sqrt(R) delta^(5/2)
-  // - 4 pi coh R delta (zero at delta = 0, where the contact forms and breaks).
-  // JKR: U(a) (jkr_potential).
-  out.elastic = jkr ? jkr_potential(0.75 * c.kn, c.coh, a, reff)
-                    : (c.normal == HOOKE ? 0.5 : 0.4) * hertz_force * delta - pulloff * delta;
-  out.cohesive = dmt || jkr;
-  out.contact_radius = a;
-  // LAMMPS' Fncrit: |Fne + 2 F_pulloff| for the cohesive models (F_pulloff = 4 pi coh R for
-  // DMT, 3 pi coh R for JKR), else |Fntot| (the preset's own rule, so not passed).
-  out.limit_force = dmt ? fabs(Fne + 2 * pulloff)
-      : jkr             ? fabs(Fne + 2 * (3 * M_PI * c.coh * reff))
-                        : fabs(out.force);
-  // The per-contact sliding coefficients of pair granular: the tangential dashpot scales with
-  // the normal one for every damping model but velocity (with velocity it is the model's
-  // constant xgammat eta_n, to the bit), the mindlin family's k_t with a (linear_history's
-  // and linear_nohistory's is the model's constant).
+  return c.damp * damp_normal;
+}
+
+// The per-contact sliding coefficients of pair granular: the tangential dashpot scales with the
+// normal one for every damping model but velocity (with velocity it is the model's constant
+// xgammat eta_n, to the bit), the mindlin family's k_t with the contact radius a
+// (linear_history's and linear_nohistory's is the model's constant).
+inline void set_sliding_coefficients(NormalForce &out, const Coeffs &c, double a,
+                                     double damp_normal_prefactor)
+{
   out.per_contact_damping = c.damping != VELOCITY;
   out.per_contact_stiffness = is_mindlin(c.tangential);
   out.sliding_damping = c.xgammat * damp_normal_prefactor;
   out.sliding_stiffness = out.per_contact_stiffness ? c.kt * a : c.kt;
+}
+
+// dmt and jkr, kept out of line (JKR's contact radius is an iteration) so that the inline
+// normal force of the pair style's hot loop stays small.
+__attribute__((noinline)) inline NormalForce cohesive_normal_force(const Coeffs &c, double delta,
+                                                                   double reff, double meff,
+                                                                   double vn)
+{
+  // The arithmetic of pair granular 20220106, operation for operation (its tests compare bits).
+  const bool jkr = c.normal == JKR;
+  double knfac = c.kn;
+  double Fne;
+  double a;
+  if (jkr) {
+    // JKR's contact radius (delta may be negative: a neck beyond touching).
+    a = jkr_contact_radius(0.75 * c.kn, c.coh, delta, reff);
+    knfac *= a;
+    Fne = jkr_force(c.kn, c.coh, a, reff);
+  } else {
+    a = sqrt(delta * reff);
+    Fne = knfac * delta * a;
+    knfac *= a;
+  }
+  const double hertz_force = Fne;
+  // DMT: the pull-off force 4 pi coh R_eff, subtracted as pair granular does.
+  const double pulloff = jkr ? 0.0 : 4 * M_PI * c.coh * reff;
+  Fne -= pulloff;
+  const double damp_normal_prefactor = damping_prefactor(c, a, knfac, meff);
+  NormalForce out;
+  out.damping_force = -damp_normal_prefactor * vn;
+  out.elastic_force = Fne;
+  out.force = Fne + out.damping_force;
+  if (c.limit_damping && out.force < 0.0) out.force = 0.0;    // (refused for dmt, jkr)
+  // DMT: the Hertz spring's energy minus the pull-off force's work, (2/5) k sqrt(R) delta^(5/2)
+  // - 4 pi coh R delta (zero at delta = 0, where the contact forms and breaks). JKR: U(a).
+  out.elastic = jkr ? jkr_potential(0.75 * c.kn, c.coh, a, reff)
+                    : 0.4 * hertz_force * delta - pulloff * delta;
+  out.cohesive = true;
+  out.contact_radius = a;
+  // LAMMPS' Fncrit = |Fne + 2 F_pulloff| (F_pulloff = 4 pi coh R for DMT, 3 pi coh R for JKR).
+  out.limit_force = jkr ? fabs(Fne + 2 * (3 * M_PI * c.coh * reff)) : fabs(Fne + 2 * pulloff);
+  set_sliding_coefficients(out, c, a, damp_normal_prefactor);
   return out;
 }
 
 // Every model; inline for hooke, hertz and hertz/material, which the pair style calls once per
-// touching pair in its hot loop.
+// touching pair in its hot loop (dmt and jkr: cohesive_normal_force).
 inline NormalForce normal_force(const Coeffs &c, double delta, double reff, double meff, double vn)
 {
   static_assert(JKR > HERTZ_MATERIAL && DMT > HERTZ_MATERIAL, "the cohesive models close the list");
@@ -242,14 +249,7 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
     Fne *= a;
     knfac *= a;
   }
-  double damp_normal;
-  switch (c.damping) {
-    case VELOCITY: damp_normal = 1; break;
-    case MASS_VELOCITY: damp_normal = meff; break;
-    case VISCOELASTIC: damp_normal = a * meff; break;
-    default: damp_normal = sqrt(meff * knfac); break;
-  }
-  const double damp_normal_prefactor = c.damp * damp_normal;
+  const double damp_normal_prefactor = damping_prefactor(c, a, knfac, meff);
   NormalForce out;
   out.damping_force = -damp_normal_prefactor * vn;
   out.elastic_force = Fne;
@@ -261,14 +261,7 @@ inline NormalForce normal_force(const Coeffs &c, double delta, double reff, doub
   out.cohesive = false;
   out.contact_radius = a;
   out.limit_force = 0.0;    // not passed: the preset's own rule, LAMMPS' |Fntot|
-  // The per-contact sliding coefficients of pair granular: the tangential dashpot scales with
-  // the normal one for every damping model but velocity (with velocity it is the model's
-  // constant xgammat eta_n, to the bit), the mindlin family's k_t with a (linear_history's
-  // and linear_nohistory's is the model's constant).
-  out.per_contact_damping = c.damping != VELOCITY;
-  out.per_contact_stiffness = is_mindlin(c.tangential);
-  out.sliding_damping = c.xgammat * damp_normal_prefactor;
-  out.sliding_stiffness = out.per_contact_stiffness ? c.kt * a : c.kt;
+  set_sliding_coefficients(out, c, a, damp_normal_prefactor);
   return out;
 }
 
