@@ -13,7 +13,7 @@
 mod common;
 
 use common::granular::{every_combination, normal_by_tangential, parallel_map, Law, Scale};
-use common::lammps::{diff, lammps, norm, read_dump, rundir, thermo, trial};
+use common::lammps::{lammps, read_dump, rundir, thermo, trial, worst_over_mean};
 use std::path::Path;
 
 fn main() {
@@ -470,21 +470,12 @@ fn every_combination_across_ranks_newton_sorting_and_restart(exe: &Path) {
         cohesion: 2.0,
         friction: 0.4,
     };
-    // The largest difference of force (columns 1-3) and torque (4-6) over the mean load.
-    let worst_over_mean = |a: &[Vec<f64>], b: &[Vec<f64>], cols: std::ops::Range<usize>| {
-        assert_eq!(a.len(), b.len(), "different atom counts");
-        let mean = a.iter().map(|r| norm(&r[cols.clone()])).sum::<f64>() / a.len() as f64;
-        a.iter()
-            .zip(b)
-            .map(|(x, y)| diff(&x[cols.clone()], &y[cols.clone()]) / mean)
-            .fold(0.0, f64::max)
-    };
     let laws = normal_by_tangential();
     let mut failures = Vec::new();
     for (k, law) in laws.iter().enumerate() {
         let preset = if k % 2 == 0 { "lammps" } else { "objective" };
         let coeffs = law.coeffs(&scale);
-        let tag = format!("{preset}_{}", law.name().replace([',', ' ', '/'], "_"));
+        let tag = format!("{preset}_{}", law.tag());
         let go = |np: usize, extra: &[(&str, &str)], dump: &str| {
             let mut vars = vec![
                 ("scene", "box"),
@@ -543,8 +534,7 @@ fn every_combination_across_ranks_newton_sorting_and_restart(exe: &Path) {
             "{}: nothing dissipated (walls {walls})",
             law.name()
         );
-        let f = worst_over_mean(&one[&2000], &two[&2000], 1..4);
-        let t = worst_over_mean(&one[&2000], &two[&2000], 4..7);
+        let (f, t) = worst_over_mean(&one[&2000], &two[&2000]);
         let (relative, absolute) = vector_difference(&reference, &resumed);
         println!(
             "{:<58} {preset:<9}: step 2000, loads {f:.2e} (force), {t:.2e} (torque) of the mean; energies {relative:.2e} relative, {absolute:.2e} of the total dissipated",

@@ -23,7 +23,7 @@ mod common;
 use common::granular::{normal_by_tangential, parallel_map, Law, Scale};
 use common::lammps::{
     assert_loads_agree, compare, diff, lammps, lammps_error, norm, read_dump, rundir, thermo,
-    trial, worst_relative,
+    trial, worst_relative, Dump,
 };
 use std::path::Path;
 
@@ -68,6 +68,27 @@ fn main() {
             bad_input_is_a_lammps_error_with_a_message,
         ),
     ]);
+}
+
+/// One run of in.packing's first 20 steps on one rank, newton off, its per-atom loads dumped at
+/// every step into `dump` and read back: with `pair` (`granular/rollslide` takes the `lammps`
+/// preset) and the other variables in `vars`.
+fn first_steps(exe: &Path, dir: &Path, pair: &str, vars: &[(&str, &str)], dump: &str) -> Dump {
+    let preset = if pair == "granular/rollslide" {
+        "lammps"
+    } else {
+        ""
+    };
+    let mut all = vec![
+        ("pair", pair),
+        ("preset", preset),
+        ("steps", "20"),
+        ("dumpevery", "1"),
+        ("dump", dump),
+    ];
+    all.extend_from_slice(vars);
+    lammps(exe, dir, 1, "in.packing", &all);
+    read_dump(&dir.join(dump))
 }
 
 /// The macroscopic curves of two 3000-step runs of in.packing (`curves[0]`, `curves[1]`: thermo
@@ -121,25 +142,13 @@ fn assert_curves_agree(curves: &[Vec<Vec<f64>>], label: &str) {
 fn stock_granular_and_granular_rollslide_lammps_agree(exe: &Path) {
     let dir = rundir("agree");
     for law in ["A", "B", "C", "E"] {
-        let mut dumps = Vec::new();
-        for (pair, preset) in [("granular", ""), ("granular/rollslide", "lammps")] {
-            let dump = format!("{}_{law}.dump", pair.replace('/', "_"));
-            lammps(
-                exe,
-                &dir,
-                1,
-                "in.packing",
-                &[
-                    ("pair", pair),
-                    ("preset", preset),
-                    ("law", law),
-                    ("steps", "20"),
-                    ("dumpevery", "1"),
-                    ("dump", &dump),
-                ],
-            );
-            dumps.push(read_dump(&dir.join(dump)));
-        }
+        let dumps: Vec<Dump> = ["granular", "granular/rollslide"]
+            .iter()
+            .map(|pair| {
+                let dump = format!("{}_{law}.dump", pair.replace('/', "_"));
+                first_steps(exe, &dir, pair, &[("law", law)], &dump)
+            })
+            .collect();
         let (wf, wt) = worst_relative(&dumps[0], &dumps[1]);
         println!("law {law}: steps 0-20, worst per-atom relative difference force {wf:.2e}, torque {wt:.2e}");
         assert!(
@@ -193,25 +202,13 @@ fn every_tangential_model_agrees_with_stock_granular(exe: &Path) {
     let mut stock_dumps = std::collections::BTreeMap::new();
     let mut table = Vec::new();
     for (law, what) in laws {
-        let mut dumps = Vec::new();
-        for (pair, preset) in [("granular", ""), ("granular/rollslide", "lammps")] {
-            let dump = format!("{}_{law}.dump", pair.replace('/', "_"));
-            lammps(
-                exe,
-                &dir,
-                1,
-                "in.packing",
-                &[
-                    ("pair", pair),
-                    ("preset", preset),
-                    ("law", law),
-                    ("steps", "20"),
-                    ("dumpevery", "1"),
-                    ("dump", &dump),
-                ],
-            );
-            dumps.push(read_dump(&dir.join(dump)));
-        }
+        let mut dumps: Vec<Dump> = ["granular", "granular/rollslide"]
+            .iter()
+            .map(|pair| {
+                let dump = format!("{}_{law}.dump", pair.replace('/', "_"));
+                first_steps(exe, &dir, pair, &[("law", law)], &dump)
+            })
+            .collect();
         let (wf, wt) = worst_relative(&dumps[0], &dumps[1]);
         table.push(format!(
             "law {law} ({what}): steps 0-20, worst per-atom relative difference force {wf:.2e}, torque {wt:.2e}"
@@ -281,52 +278,28 @@ fn every_normal_and_tangential_combination_agrees_with_stock_granular(exe: &Path
         friction: 0.4,
     };
     let run = |pair: &str, law: &Law| {
-        let preset = if pair == "granular/rollslide" {
-            "lammps"
-        } else {
-            ""
-        };
-        let dump = format!(
-            "{}_{}.dump",
-            pair.replace('/', "_"),
-            law.name().replace([',', ' ', '/'], "_")
-        );
-        lammps(
+        let dump = format!("{}_{}.dump", pair.replace('/', "_"), law.tag());
+        first_steps(
             exe,
             &dir,
-            1,
-            "in.packing",
-            &[
-                ("pair", pair),
-                ("preset", preset),
-                ("law", "matrix"),
-                ("coeffs", &law.coeffs(&scale)),
-                ("steps", "20"),
-                ("dumpevery", "1"),
-                ("dump", &dump),
-            ],
-        );
-        read_dump(&dir.join(dump))
+            pair,
+            &[("law", "matrix"), ("coeffs", &law.coeffs(&scale))],
+            &dump,
+        )
     };
     let laws = normal_by_tangential();
     let results = parallel_map(&laws, 2, |law| {
-        let stock = if law.normal == "dmt" {
-            "granular/dmt_reference"
-        } else {
-            "granular"
-        };
-        worst_relative(&run(stock, law), &run("granular/rollslide", law))
+        worst_relative(
+            &run(law.stock_styles().0, law),
+            &run("granular/rollslide", law),
+        )
     });
     let mut failures = Vec::new();
     for (law, (f, t)) in laws.iter().zip(results) {
-        let against = if law.normal == "dmt" {
-            " (against stock with DMT's cohesion set)"
-        } else {
-            ""
-        };
         println!(
-            "{:<58} steps 0-20, worst per-atom relative difference force {f:.2e}, torque {t:.2e}{against}",
-            law.name()
+            "{:<58} steps 0-20, worst per-atom relative difference force {f:.2e}, torque {t:.2e}{}",
+            law.name(),
+            law.stock_note()
         );
         if !(f < 1e-10 && t < 1e-10) {
             failures.push(law.name());
@@ -463,31 +436,22 @@ fn several_atom_types_stock_granular_and_granular_rollslide_lammps_agree(exe: &P
     let dir = rundir("types");
     for law in ["A", "B", "M"] {
         let mut dumps = Vec::new();
-        for (pair, preset, types) in [
-            ("granular", "", "3"),
-            ("granular/rollslide", "lammps", "3"),
-            ("granular/rollslide", "lammps", "1"),
+        for (pair, types) in [
+            ("granular", "3"),
+            ("granular/rollslide", "3"),
+            ("granular/rollslide", "1"),
         ] {
             if law == "M" && types == "1" {
                 continue; // law M needs several types
             }
             let dump = format!("{}_{law}_types{types}.dump", pair.replace('/', "_"));
-            lammps(
+            dumps.push(first_steps(
                 exe,
                 &dir,
-                1,
-                "in.packing",
-                &[
-                    ("pair", pair),
-                    ("preset", preset),
-                    ("law", law),
-                    ("types", types),
-                    ("steps", "20"),
-                    ("dumpevery", "1"),
-                    ("dump", &dump),
-                ],
-            );
-            dumps.push(read_dump(&dir.join(dump)));
+                pair,
+                &[("law", law), ("types", types)],
+                &dump,
+            ));
         }
         let (wf, wt) = worst_relative(&dumps[0], &dumps[1]);
         println!(
@@ -1057,24 +1021,13 @@ fn jkr_necks(dump: &common::lammps::Dump, coh: f64) -> (usize, usize) {
 fn cohesive_models_agree_with_stock_granular(exe: &Path) {
     let dir = rundir("cohesive");
     let run = |pair: &str, law: &str, coh: &str, cmu: &str, dump: &str| {
-        let preset = if pair == "granular" { "" } else { "lammps" };
-        lammps(
+        first_steps(
             exe,
             &dir,
-            1,
-            "in.packing",
-            &[
-                ("pair", pair),
-                ("preset", preset),
-                ("law", law),
-                ("coh", coh),
-                ("cmu", cmu),
-                ("steps", "20"),
-                ("dumpevery", "1"),
-                ("dump", dump),
-            ],
-        );
-        read_dump(&dir.join(dump))
+            pair,
+            &[("law", law), ("coh", coh), ("cmu", cmu)],
+            dump,
+        )
     };
     let mut table = Vec::new();
     for (law, what, cmu) in [

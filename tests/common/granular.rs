@@ -96,6 +96,32 @@ impl Law {
             self.normal, self.damping, self.tangential, self.twisting
         )
     }
+
+    /// The name as a file-name part: "normal__damping__tangential__twisting", `/` as `_`.
+    pub fn tag(&self) -> String {
+        self.name().replace([',', ' ', '/'], "_")
+    }
+
+    /// Stock's classes to compare with. Stock 20220106 computes DMT's critical force (its
+    /// limits, and its transports' thresholds) from a cohesion it never sets, so DMT is compared
+    /// with stock's own classes rebuilt with it set (-DROLLSLIDE_DMT_REFERENCE=ON, which the
+    /// tests' build turns on): `(pair style, wall fix)`.
+    pub fn stock_styles(&self) -> (&'static str, &'static str) {
+        if self.normal == "dmt" {
+            ("granular/dmt_reference", "wall/gran/dmt_reference")
+        } else {
+            ("granular", "wall/gran")
+        }
+    }
+
+    /// What `stock_styles` compares with, for a printed line: empty, or the DMT reference.
+    pub fn stock_note(&self) -> &'static str {
+        if self.normal == "dmt" {
+            " (against stock with DMT's cohesion set)"
+        } else {
+            ""
+        }
+    }
 }
 
 /// Every combination: normal x damping x tangential x twisting (240; the LAMMPS styles accept

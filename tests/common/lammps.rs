@@ -332,6 +332,27 @@ pub fn compare(a: &[Vec<f64>], b: &[Vec<f64>]) -> (Worst, Worst) {
     (out.pop().unwrap(), t)
 }
 
+/// The largest per-atom difference of force (columns 1-3) and of torque (4-6) at one step, over
+/// the mean load of `a` (0 where the two are equal, even with no load at all).
+pub fn worst_over_mean(a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, f64) {
+    assert_eq!(a.len(), b.len(), "different atom counts");
+    let worst = |cols: std::ops::Range<usize>| {
+        let mean = a.iter().map(|r| norm(&r[cols.clone()])).sum::<f64>() / a.len() as f64;
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| {
+                let d = diff(&x[cols.clone()], &y[cols.clone()]);
+                if d == 0.0 {
+                    0.0
+                } else {
+                    d / mean
+                }
+            })
+            .fold(0.0, f64::max)
+    };
+    (worst(1..4), worst(4..7))
+}
+
 /// Worst per-atom relative differences (force, torque) over every step both dumps hold.
 pub fn worst_relative(a: &Dump, b: &Dump) -> (f64, f64) {
     let (mut wf, mut wt) = (0.0f64, 0.0f64);
